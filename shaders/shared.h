@@ -1,0 +1,83 @@
+// The GPU/CPU contract: particle layout, dispatch parameters, workgroup size and the
+// stateless random hash. Included by C++ (src/) and by GLSL (shaders/*.comp, *.vert).
+#ifndef LAVA_SHARED_H
+#define LAVA_SHARED_H
+
+#ifdef __cplusplus
+#include <cstddef>
+#include <cstdint>
+#include <glm/glm.hpp>
+namespace lava::gpu {
+using uint = std::uint32_t;
+using vec4 = glm::vec4;
+using uvec4 = glm::uvec4;
+#define LAVA_FN inline
+#else
+#define LAVA_FN
+#endif
+
+// Invocations per compute workgroup (one particle each).
+const uint kWorkgroupSize = 64u;
+// Descriptor bindings of the simulation and drawing pipelines.
+const uint kParticleBinding = 0u;
+const uint kScheduleBinding = 1u;
+// Random-stream components drawn per emitted particle: 3 for velocity, then disc tries.
+const uint kVelocityComponents = 3u;
+// Rejection-sampling tries for the emitter disc; all failing has odds (1-pi/4)^16 < 2e-11
+// and places the particle at the centre. Rejection keeps sin/cos/sqrt (not bit-exact
+// across drivers) out of the emission.
+const uint kDiscTries = 16u;
+// Tangential speed (m/s) below which a bouncing particle's x or z velocity becomes 0.
+const float kRestSpeed = 1e-4f;
+
+// One particle, 32 bytes in std430. Unborn slots have posAge.w < 0.
+struct Particle {
+  vec4 posAge;   // xyz position (m), w age since emission (s); < 0: never emitted
+  vec4 velMass;  // xyz velocity (m/s), w mass (kg)
+};
+
+// One step's emission, written by the host (ring-buffer bookkeeping stays on the host).
+struct EmitEntry {
+  uvec4 ring;  // x first slot (head), y slots born this step, z serial low, w serial high
+};
+
+// Push constants of step.comp: the scene plus which steps and particles to run.
+struct StepParams {
+  vec4 emitter;   // xyz emitter centre (m), w disc radius (m)
+  vec4 velocity;  // xyz mean launch velocity (m/s), w step size h (s)
+  vec4 spread;    // xyz launch velocity spread (m/s), w gravity g (m/s^2)
+  vec4 wind;      // xyz wind force (N), w linear drag (N s/m)
+  vec4 material;  // x restitution, y tangential retention, z mass (kg), w unused
+  uvec4 run;      // x seed, y capacity, z first schedule entry, w steps in this dispatch
+  uvec4 chunk;    // x first particle of the bound range, y particles in it
+};
+
+// lowbias32 (C. Wellons): a stateless 32-bit integer mix with good avalanche.
+LAVA_FN uint hashMix(uint x) {
+  x ^= x >> 16u;
+  x *= 0x7feb352du;
+  x ^= x >> 15u;
+  x *= 0x846ca68bu;
+  x ^= x >> 16u;
+  return x;
+}
+
+// 32 random bits for (seed, 64-bit serial, component): the same on every device.
+LAVA_FN uint randomBits(uint seed, uint serialLo, uint serialHi, uint component) {
+  return hashMix(hashMix(hashMix(hashMix(seed) ^ serialLo) ^ serialHi) ^ component);
+}
+
+// Uniform in [-1, 1) on a 2^-23 grid; every operation is exact in float32.
+LAVA_FN float signedUnit(uint bits) {
+  return float(int(bits >> 8u) - 8388608) * (1.0f / 8388608.0f);
+}
+
+#ifdef __cplusplus
+static_assert(sizeof(Particle) == 32, "Particle must match std430 (two vec4)");
+static_assert(sizeof(EmitEntry) == 16, "EmitEntry must match std430 (one uvec4)");
+static_assert(sizeof(StepParams) == 112, "StepParams must fit 128 bytes of push constants");
+static_assert(offsetof(StepParams, run) == 80, "StepParams members must stay vec4-aligned");
+}  // namespace lava::gpu
+#endif
+#undef LAVA_FN
+#endif

@@ -1,0 +1,191 @@
+#include "gpu_simulator.h"
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+
+#include "pipeline.h"
+#include "step_comp.h"
+#include "vk_check.h"
+
+namespace lava {
+namespace {
+
+constexpr VkDeviceSize kParticleBytes = sizeof(Particle);
+
+void barrier(VkCommandBuffer commands, VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
+             VkPipelineStageFlags dstStage, VkAccessFlags dstAccess) {
+  VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  memory.srcAccessMask = srcAccess;
+  memory.dstAccessMask = dstAccess;
+  vkCmdPipelineBarrier(commands, srcStage, dstStage, 0, 1, &memory, 0, nullptr, 0, nullptr);
+}
+
+}  // namespace
+
+uint32_t particlesPerChunk(const Context& context) {
+  const uint64_t perBinding = std::min<uint64_t>(
+      context.limits().maxStorageBufferRange / kParticleBytes,
+      uint64_t{context.limits().maxComputeWorkGroupCount[0]} * gpu::kWorkgroupSize);
+  return static_cast<uint32_t>(perBinding - perBinding % gpu::kWorkgroupSize);
+}
+
+uint64_t maxParticles(const Context& context) {
+  return std::min<uint64_t>(context.maxAllocationSize() / kParticleBytes, 0x80000000u);
+}
+
+GpuSimulator::GpuSimulator(Context& context, const Scene& scene)
+    : Simulator(scene), context_(context) {
+  const uint64_t limit = maxParticles(context);
+  if (scene.particles > limit)
+    throw UsageError("--particles: " + std::to_string(scene.particles) + " particles need " +
+                     std::to_string((scene.particles * kParticleBytes) >> 20) + " MiB; device '" +
+                     context.properties().deviceName + "' allows at most " +
+                     std::to_string(limit) + " (see 'lava info')");
+  const VkDeviceSize bytes = scene.particles * kParticleBytes;
+  const VkMemoryPropertyFlags hostMemory =
+      VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  particles_ = Buffer(context, bytes,
+                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                          VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                      VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  staging_ = Buffer(context, bytes,
+                    VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, hostMemory);
+  schedule_ = Buffer(context, kStepsPerSubmit * sizeof(gpu::EmitEntry),
+                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, hostMemory);
+
+  VkDevice device = context.device();
+  VkDescriptorSetLayoutBinding bindings[2] = {};
+  for (uint32_t b : {gpu::kParticleBinding, gpu::kScheduleBinding}) {
+    bindings[b].binding = b;
+    bindings[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    bindings[b].descriptorCount = 1;
+    bindings[b].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+  }
+  VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  setInfo.bindingCount = 2;
+  setInfo.pBindings = bindings;
+  VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &setLayout));
+  setLayout_ = UniqueDescriptorSetLayout(device, setLayout);
+
+  VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(gpu::StepParams)};
+  VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  layoutInfo.setLayoutCount = 1;
+  layoutInfo.pSetLayouts = &setLayout;
+  layoutInfo.pushConstantRangeCount = 1;
+  layoutInfo.pPushConstantRanges = &push;
+  VkPipelineLayout pipelineLayout = VK_NULL_HANDLE;
+  VK_CHECK(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &pipelineLayout));
+  pipelineLayout_ = UniquePipelineLayout(device, pipelineLayout);
+  pipeline_ = createComputePipeline(device, pipelineLayout, kStepCompSpv, sizeof(kStepCompSpv),
+                                    gpu::kWorkgroupSize);
+
+  const uint32_t perChunk = particlesPerChunk(context);
+  for (uint32_t first = 0; first < scene.particles; first += perChunk)
+    chunks_.push_back({first, std::min(perChunk, scene.particles - first), VK_NULL_HANDLE});
+  const uint32_t chunkCount = static_cast<uint32_t>(chunks_.size());
+  VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * chunkCount};
+  VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  poolInfo.maxSets = chunkCount;
+  poolInfo.poolSizeCount = 1;
+  poolInfo.pPoolSizes = &poolSize;
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool));
+  descriptorPool_ = UniqueDescriptorPool(device, pool);
+  for (Chunk& chunk : chunks_) {
+    VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    alloc.descriptorPool = pool;
+    alloc.descriptorSetCount = 1;
+    alloc.pSetLayouts = &setLayout;
+    VK_CHECK(vkAllocateDescriptorSets(device, &alloc, &chunk.set));
+    VkDescriptorBufferInfo particleRange{particles_.get(), chunk.first * kParticleBytes,
+                                         chunk.count * kParticleBytes};
+    VkDescriptorBufferInfo scheduleRange{schedule_.get(), 0, VK_WHOLE_SIZE};
+    VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
+                                      {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
+    writes[0].dstSet = writes[1].dstSet = chunk.set;
+    writes[0].dstBinding = gpu::kParticleBinding;
+    writes[1].dstBinding = gpu::kScheduleBinding;
+    writes[0].descriptorCount = writes[1].descriptorCount = 1;
+    writes[0].descriptorType = writes[1].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    writes[0].pBufferInfo = &particleRange;
+    writes[1].pBufferInfo = &scheduleRange;
+    vkUpdateDescriptorSets(device, 2, writes, 0, nullptr);
+  }
+  load(initialState(scene));
+}
+
+void GpuSimulator::load(const SimState& state) {
+  std::memcpy(staging_.mapped(), state.particles.data(), staging_.size());
+  clock_ = state.clock;
+  context_.submitNow([&](VkCommandBuffer commands) {
+    // WAW/WAR: earlier dispatches wrote, and a download read, the particles overwritten here.
+    barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+            VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+            VK_ACCESS_TRANSFER_WRITE_BIT);
+    VkBufferCopy region{0, 0, staging_.size()};
+    vkCmdCopyBuffer(commands, staging_.get(), particles_.get(), 1, &region);
+  });
+}
+
+SimState GpuSimulator::state() {
+  context_.submitNow([&](VkCommandBuffer commands) {
+    // RAW: step.comp wrote the particles this copy reads.
+    barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+            VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+            VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+    VkBufferCopy region{0, 0, staging_.size()};
+    vkCmdCopyBuffer(commands, particles_.get(), staging_.get(), 1, &region);
+    // RAW: the host reads what the copy wrote into staging.
+    barrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+            VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+  });
+  SimState out;
+  out.particles.resize(scene_.particles);
+  std::memcpy(out.particles.data(), staging_.mapped(), staging_.size());
+  out.clock = clock_;
+  return out;
+}
+
+void GpuSimulator::planSteps(uint32_t count) {
+  auto* entries = static_cast<gpu::EmitEntry*>(schedule_.mapped());
+  for (uint32_t k = 0; k < count; ++k) {
+    EmitStep e = clock_.advance(scene_.rate, scene_.dt, scene_.particles);
+    entries[k].ring = {e.head, e.count, static_cast<uint32_t>(e.firstSerial),
+                       static_cast<uint32_t>(e.firstSerial >> 32)};
+  }
+}
+
+void GpuSimulator::recordSteps(VkCommandBuffer commands, uint32_t first, uint32_t count) const {
+  vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+  gpu::StepParams params = stepParams(scene_);
+  for (uint32_t done = 0; done < count; done += kStepsPerDispatch) {
+    // RAW/WAW: the previous dispatch or upload wrote the particles this one reads and writes.
+    barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+            VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+            VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    params.run.z = first + done;
+    params.run.w = std::min(kStepsPerDispatch, count - done);
+    for (const Chunk& chunk : chunks_) {
+      params.chunk = {chunk.first, chunk.count, 0u, 0u};
+      vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_, 0, 1,
+                              &chunk.set, 0, nullptr);
+      vkCmdPushConstants(commands, pipelineLayout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
+                         &params);
+      vkCmdDispatch(commands, (chunk.count + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1, 1);
+    }
+  }
+}
+
+void GpuSimulator::advance(uint64_t steps) {
+  while (steps > 0) {
+    const uint32_t batch = static_cast<uint32_t>(std::min<uint64_t>(steps, kStepsPerSubmit));
+    planSteps(batch);
+    context_.submitNow([&](VkCommandBuffer commands) { recordSteps(commands, 0, batch); });
+    steps -= batch;
+  }
+}
+
+}  // namespace lava

@@ -1,0 +1,53 @@
+// The Vulkan backend: step.comp over one device-local particle buffer, bound in chunks of
+// at most maxStorageBufferRange, many steps per dispatch and many dispatches per submit.
+#pragma once
+#include <vector>
+
+#include "buffer.h"
+#include "context.h"
+#include "simulator.h"
+
+namespace lava {
+
+// Particles one binding and one dispatch can cover on this device (a workgroup multiple).
+uint32_t particlesPerChunk(const Context& context);
+// Largest particle count this device allows (one allocation for the particles).
+uint64_t maxParticles(const Context& context);
+
+class GpuSimulator final : public Simulator {
+ public:
+  GpuSimulator(Context& context, const Scene& scene);
+  void advance(uint64_t steps) override;
+  SimState state() override;
+  void load(const SimState& state) override;
+
+  // Records `count` steps whose schedule entries start at `first` (already written).
+  void recordSteps(VkCommandBuffer commands, uint32_t first, uint32_t count) const;
+  // Plans the next `count` steps into the schedule buffer from entry 0.
+  void planSteps(uint32_t count);
+  VkBuffer particleBuffer() const { return particles_.get(); }
+  const EmissionClock& clock() const { return clock_; }
+
+  static constexpr uint32_t kStepsPerDispatch = 256;
+  static constexpr uint32_t kStepsPerSubmit = 4096;
+
+ private:
+  struct Chunk {
+    uint32_t first;
+    uint32_t count;
+    VkDescriptorSet set;
+  };
+
+  Context& context_;
+  EmissionClock clock_;
+  Buffer particles_;
+  Buffer staging_;
+  Buffer schedule_;
+  UniqueDescriptorSetLayout setLayout_;
+  UniquePipelineLayout pipelineLayout_;
+  UniquePipeline pipeline_;
+  UniqueDescriptorPool descriptorPool_;
+  std::vector<Chunk> chunks_;
+};
+
+}  // namespace lava

@@ -1,0 +1,16 @@
+#include "scene.h"
+
+namespace lava {
+
+gpu::StepParams stepParams(const Scene& s) {
+  gpu::StepParams p{};
+  p.emitter = glm::vec4(s.emitter, s.emitterRadius);
+  p.velocity = glm::vec4(s.velocity, s.dt);
+  p.spread = glm::vec4(s.spread, s.gravity);
+  p.wind = glm::vec4(s.wind, s.drag);
+  p.material = glm::vec4(s.restitution, s.friction, s.mass, 0.0f);
+  p.run = glm::uvec4(s.seed, s.particles, 0u, 0u);
+  return p;
+}
+
+}  // namespace lava

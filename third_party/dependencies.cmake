@@ -1,0 +1,19 @@
+# The dependency boundary: every outside library Lava uses, found from Debian's packages
+# (third_party/install-deps.sh installs them). Nothing is vendored or downloaded.
+find_package(Vulkan REQUIRED)
+find_package(Threads REQUIRED)
+find_package(glm REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(tomlplusplus REQUIRED)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(GLFW REQUIRED IMPORTED_TARGET glfw3)
+
+find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
+
+find_path(STB_INCLUDE_DIR stb_image_write.h PATH_SUFFIXES stb REQUIRED)
+add_library(lava_stb INTERFACE)
+target_include_directories(lava_stb SYSTEM INTERFACE ${STB_INCLUDE_DIR})
+
+if(LAVA_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()

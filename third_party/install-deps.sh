@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Installs Lava's build and test dependencies from Debian packages, only those missing.
+# Safe to run again; uses sudo when not root. Nothing is downloaded except by apt.
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
+  glslang-tools spirv-tools
+  libglfw3-dev libglm-dev libgtest-dev
+  libcli11-dev libtomlplusplus-dev libstb-dev libimgui-dev
+  xvfb xauth
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+echo "third_party: installing ${missing[*]}"
+$sudo env DEBIAN_FRONTEND=noninteractive apt-get update -qq
+$sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
