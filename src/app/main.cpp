@@ -1,0 +1,46 @@
+// `lava`: the command line. Exit status 0 success, 1 a check failed or a resource ran out,
+// 2 bad usage or bad input (one line naming the flag and the accepted range).
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <vector>
+
+#include "commands.h"
+#include "vk_check.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"Lava: a Vulkan compute-shader particle engine (the lava crater)", "lava"};
+  app.require_subcommand(1);
+  app.set_help_all_flag("--help-all", "print help for every command");
+  std::vector<std::unique_ptr<lava::app::Command>> commands;
+  commands.push_back(lava::app::makeDemo(app));
+  commands.push_back(lava::app::makeSimulate(app));
+  commands.push_back(lava::app::makeValidate(app));
+  commands.push_back(lava::app::makeInfo(app));
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "lava: %s (see 'lava --help')\n", e.what());
+    return 2;
+  }
+
+  try {
+    for (auto& command : commands)
+      if (command->chosen()) return command->run();
+  } catch (const lava::UsageError& e) {
+    std::fprintf(stderr, "lava: %s\n", e.what());
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "lava: out of host memory\n");
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "lava: %s\n", e.what());
+    return 1;
+  }
+  return 2;
+}
