@@ -1,0 +1,217 @@
+// The `lava` program as users and outside checks call it: exit codes, one-line messages
+// naming the flag, scene files, and outputs that appear whole or not at all.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+namespace {
+
+struct Result {
+  int status;
+  std::string out;
+  std::string err;
+};
+
+std::string readFile(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::stringstream s;
+  s << file.rdbuf();
+  return s.str();
+}
+
+std::string scratch(const std::string& name) {
+  return ::testing::TempDir() + "lava_cli_" + std::to_string(getpid()) + "_" + name;
+}
+
+Result lava(const std::string& args) {
+  const std::string out = scratch("stdout"), err = scratch("stderr");
+  const std::string command =
+      std::string(LAVA_EXE) + " " + args + " >" + out + " 2>" + err + " </dev/null";
+  const int raw = std::system(command.c_str());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw), readFile(out), readFile(err)};
+}
+
+std::string writeScene(const std::string& name, const std::string& contents) {
+  const std::string path = scratch(name);
+  std::ofstream(path, std::ios::binary) << contents;
+  return path;
+}
+
+struct BadInput {
+  const char* args;
+  const char* mentions;  // the flag or key the one-line message must name
+};
+
+void PrintTo(const BadInput& c, std::ostream* os) { *os << "lava " << c.args; }
+
+// Test names: the arguments with every non-alphanumeric run turned into '_'.
+std::string caseName(const ::testing::TestParamInfo<BadInput>& info) {
+  std::string name = std::to_string(info.index) + "_";
+  for (const char* p = info.param.args; *p; ++p)
+    name += std::isalnum(static_cast<unsigned char>(*p)) ? *p : '_';
+  return name;
+}
+
+class HostileInput : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(HostileInput, ExitsTwoWithOneLineNamingTheProblem) {
+  const BadInput& c = GetParam();
+  const Result r = lava(c.args);
+  EXPECT_EQ(r.status, 2) << c.args << "\nstderr: " << r.err;
+  EXPECT_NE(r.err.find(c.mentions), std::string::npos) << c.args << "\nstderr: " << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(r.out, "");
+}
+
+const std::string kGarbageScene = writeScene("garbage.toml", std::string("\x00\xff\x13[[[=\x80", 8));
+const std::string kUnknownKey = writeScene("unknown.toml", "particles = 100\nlava_temperature = 3\n");
+const std::string kWrongType = writeScene("type.toml", "restitution = \"high\"\n");
+const std::string kWrongArity = writeScene("arity.toml", "emitter = [1.0, 2.0]\n");
+const std::string kBadRange = writeScene("range.toml", "friction = 2.5\n");
+
+const BadInput kBadInputs[] = {
+    {"simulate --steps 10 --restitution abc", "--restitution"},
+    {"simulate --steps 10 --restitution 1.5", "--restitution"},
+    {"simulate --steps 10 --restitution nan", "--restitution"},
+    {"simulate --steps 10 --friction -0.1", "--friction"},
+    {"simulate --steps 10 --mass 0", "--mass"},
+    {"simulate --steps 10 --mass inf", "--mass"},
+    {"simulate --steps 10 --dt 0", "--dt"},
+    {"simulate --steps 10 --dt -1", "--dt"},
+    {"simulate --steps 10 --particles 0", "--particles"},
+    {"simulate --steps 10 --particles 12abc", "--particles"},
+    {"simulate --steps 10 --particles -5", "--particles"},
+    {"simulate --steps 10 --particles 1.5", "--particles"},
+    {"simulate --steps 10 --particles 99999999999", "--particles"},
+    {"simulate --steps 10 --emitter 1,2", "--emitter"},
+    {"simulate --steps 10 --emitter 1,2,3,4", "--emitter"},
+    {"simulate --steps 10 --velocity 1,,2", "--velocity"},
+    {"simulate --steps 10 --spread -1,0,0", "--spread"},
+    {"simulate --steps 10 --gravity 1e9", "--gravity"},
+    {"simulate --steps 10 --seed 4294967296", "--seed"},
+    {"simulate --steps 10 --rate -3", "--rate"},
+    {"simulate --steps 10 --line-scale 11", "--line-scale"},
+    {"simulate --steps 10 --drag -1", "--drag"},
+    {"simulate --steps 10 --wind 1,2", "--wind"},
+    {"simulate --steps -1", "--steps"},
+    {"simulate --steps abc", "--steps"},
+    {"simulate", "--steps"},
+    {"simulate --steps 10 --lava-temperature 3", "--lava-temperature"},
+    {"simulate --steps 10 --backend tpu", "--backend"},
+    {"simulate --steps 10 --threads -2", "--threads"},
+    {"simulate --steps 10 --out /nonexistent/dir/state.npy", "--out"},
+    {"simulate --steps 10 --out state.txt", "--out"},
+    {"simulate --steps 10 --device 99", "--device"},
+    {"validate --steps 10 --tolerance-ulp -1", "--tolerance-ulp"},
+    {"validate --steps 10 --every 0", "--every"},
+    {"validate --steps 0", "--steps"},
+    {"validate --steps 10 --csv table.txt", "--csv"},
+    {"info --device 42", "--device"},
+    {"frobnicate", "frobnicate"},
+    {"simulate --steps 10 extra", "extra"},
+    {"", "subcommand"},
+};
+INSTANTIATE_TEST_SUITE_P(Flags, HostileInput, ::testing::ValuesIn(kBadInputs), caseName);
+
+const BadInput kBadScenes[] = {
+    {"simulate --steps 1 --scene /nonexistent.toml", "--scene"},
+    {"simulate --steps 1 --scene ", "--scene"},
+};
+INSTANTIATE_TEST_SUITE_P(MissingScene, HostileInput, ::testing::ValuesIn(kBadScenes), caseName);
+
+TEST(SceneFile, HostileScenesExitTwoNamingTheKey) {
+  const std::pair<std::string, std::string> cases[] = {
+      {kGarbageScene, "--scene"},
+      {kUnknownKey, "lava_temperature"},
+      {kWrongType, "restitution"},
+      {kWrongArity, "emitter"},
+      {kBadRange, "friction"},
+  };
+  for (const auto& [path, mentions] : cases) {
+    const Result r = lava("simulate --steps 1 --scene " + path);
+    EXPECT_EQ(r.status, 2) << path << ": " << r.err;
+    EXPECT_NE(r.err.find(mentions), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+}
+
+size_t npyRows(const std::string& path) {
+  const std::string data = readFile(path);
+  const size_t at = data.find("'shape': (");
+  return at == std::string::npos ? 0 : std::stoul(data.substr(at + 10));
+}
+
+TEST(SceneFile, SetsValuesAndTheCommandLineWins) {
+  const std::string scene = writeScene("ok.toml",
+                                       "particles = 100\nrestitution = 0.9\n"
+                                       "emitter = [0.0, 1.0, 0.0]\nsteps = 20\n");
+  const std::string out = scratch("scene.npy");
+  Result r = lava("simulate --scene " + scene + " --out " + out);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(npyRows(out), 100u);
+  r = lava("simulate --scene " + scene + " --particles 200 --out " + out);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(npyRows(out), 200u);
+}
+
+TEST(Simulate, GpuAndCpuBackendsWriteIdenticalFiles) {
+  const std::string gpu = scratch("gpu.npy"), cpu = scratch("cpu.csv"), cpuNpy = scratch("cpu.npy");
+  ASSERT_EQ(lava("simulate --steps 1500 --backend gpu --out " + gpu).status, 0);
+  ASSERT_EQ(lava("simulate --steps 1500 --backend cpu --out " + cpuNpy).status, 0);
+  const Result r = lava("simulate --steps 1500 --backend cpu --out " + cpu);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(readFile(gpu), readFile(cpuNpy));
+  EXPECT_EQ(readFile(gpu).size(), 128u + 5000u * 7u * 4u);
+  EXPECT_EQ(readFile(cpu).substr(0, 22), "px,py,pz,vx,vy,vz,age\n");
+  EXPECT_NE(r.out.find("1500 steps"), std::string::npos) << r.out;
+}
+
+TEST(Simulate, BadInputLeavesNoFileBehind) {
+  const std::string out = scratch("never.npy");
+  std::remove(out.c_str());
+  EXPECT_EQ(lava("simulate --steps 10 --mass -1 --out " + out).status, 2);
+  EXPECT_FALSE(std::ifstream(out).good());
+  EXPECT_FALSE(std::ifstream(out + ".partial").good());
+}
+
+TEST(Simulate, SixteenMillionParticlesPastTheBindingRange) {
+  const Result r = lava("simulate --particles 16777216 --steps 5");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("16777216 particles"), std::string::npos) << r.out;
+}
+
+TEST(Validate, SaysBitExactOnLavapipe) {
+  const std::string csv = scratch("table.csv");
+  const Result r = lava("validate --particles 20000 --rate 7000 --steps 3000 --every 500 --csv " + csv);
+  EXPECT_EQ(r.status, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("first divergent step: none (bit-exact over 3000 steps)"),
+            std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("validate: PASS"), std::string::npos);
+  const std::string table = readFile(csv);
+  EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 7) << table;  // header + 6 checkpoints
+  EXPECT_NE(table.find("3000,20000,20000,0,0,0"), std::string::npos) << table;
+}
+
+TEST(Info, ListsTheDeviceAndTheLargestParticleCount) {
+  const Result r = lava("info");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("llvmpipe"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("largest particle count"), std::string::npos);
+}
+
+TEST(Help, ExitsZeroAndListsCommands) {
+  const Result r = lava("--help");
+  EXPECT_EQ(r.status, 0);
+  for (const char* command : {"demo", "simulate", "validate", "info"})
+    EXPECT_NE(r.out.find(command), std::string::npos) << command;
+  EXPECT_EQ(lava("simulate --help").status, 0);
+}
+
+}  // namespace

@@ -1,0 +1,94 @@
+// .npy / .csv output as SPEC §4 fixes it, and the checks that keep bad paths from losing work.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+#include "compare.h"
+#include "state_io.h"
+#include "vk_check.h"
+
+namespace lava {
+namespace {
+
+std::string readFile(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::stringstream s;
+  s << file.rdbuf();
+  return s.str();
+}
+
+std::vector<gpu::Particle> sample() {
+  return {gpu::Particle{{1.0f, 2.0f, 3.0f, 0.5f}, {4.0f, 5.0f, 6.0f, 1.0f}},
+          gpu::Particle{{0.0f, 0.0f, 0.0f, -1.0f}, {0.0f, 0.0f, 0.0f, 0.0f}}};
+}
+
+std::string tempPath(const std::string& name) {
+  return ::testing::TempDir() + "lava_" + std::to_string(getpid()) + "_" + name;
+}
+
+TEST(StateIo, NpyHasVersion1HeaderShapeAndRows) {
+  const std::string path = tempPath("state.npy");
+  writeState(path, sample());
+  const std::string data = readFile(path);
+  ASSERT_GT(data.size(), 10u);
+  EXPECT_EQ(data.substr(0, 8), std::string("\x93NUMPY\x01\x00", 8));
+  const size_t headerLength = uint8_t(data[8]) | (uint8_t(data[9]) << 8);
+  EXPECT_EQ((10 + headerLength) % 64, 0u);
+  const std::string header = data.substr(10, headerLength);
+  EXPECT_NE(header.find("'descr': '<f4'"), std::string::npos);
+  EXPECT_NE(header.find("'fortran_order': False"), std::string::npos);
+  EXPECT_NE(header.find("'shape': (2, 7)"), std::string::npos);
+  EXPECT_EQ(header.back(), '\n');
+  ASSERT_EQ(data.size(), 10 + headerLength + 2 * 7 * sizeof(float));
+  float rows[14];
+  std::memcpy(rows, data.data() + 10 + headerLength, sizeof(rows));
+  const float expected[14] = {1, 2, 3, 4, 5, 6, 0.5f, 0, 0, 0, 0, 0, 0, -1};
+  for (int i = 0; i < 14; ++i) EXPECT_EQ(rows[i], expected[i]) << "value " << i;
+  std::remove(path.c_str());
+}
+
+TEST(StateIo, CsvHasHeaderAndOneLinePerSlot) {
+  const std::string path = tempPath("state.csv");
+  writeState(path, sample());
+  EXPECT_EQ(readFile(path), "px,py,pz,vx,vy,vz,age\n1,2,3,4,5,6,0.5\n0,0,0,0,0,0,-1\n");
+  std::remove(path.c_str());
+}
+
+TEST(StateIo, BadPathsAreUsageErrors) {
+  EXPECT_THROW(checkStatePath("--out", "state.txt"), UsageError);
+  EXPECT_THROW(checkStatePath("--out", "/no/such/folder/state.npy"), UsageError);
+  EXPECT_THROW(checkStatePath("--out", ".npy"), UsageError);
+  EXPECT_NO_THROW(checkStatePath("--out", tempPath("ok.npy")));
+  try {
+    checkStatePath("--out", "/no/such/folder/state.npy");
+  } catch (const UsageError& e) {
+    EXPECT_NE(std::string(e.what()).find("--out"), std::string::npos);
+  }
+}
+
+TEST(Compare, UlpDistance) {
+  EXPECT_EQ(ulpDistance(1.0f, 1.0f), 0u);
+  EXPECT_EQ(ulpDistance(1.0f, std::nextafter(1.0f, 2.0f)), 1u);
+  EXPECT_EQ(ulpDistance(-0.0f, 0.0f), 0u);
+  EXPECT_EQ(ulpDistance(std::nextafter(0.0f, -1.0f), std::nextafter(0.0f, 1.0f)), 2u);
+  EXPECT_EQ(ulpDistance(1.0f, NAN), 0xffffffffu);
+}
+
+TEST(Compare, CountsEqualSlotsAndLargestDifferences) {
+  std::vector<gpu::Particle> a = sample(), b = sample();
+  b[0].posAge.y += 0.25f;
+  b[0].velMass.z = std::nextafter(b[0].velMass.z, 10.0f);
+  const Comparison c = compare(a, b);
+  EXPECT_EQ(c.particles, 2u);
+  EXPECT_EQ(c.equal, 1u);
+  EXPECT_FLOAT_EQ(c.maxDx, 0.25f);
+  EXPECT_GT(c.maxDv, 0.0f);
+  EXPECT_EQ(c.maxUlp, ulpDistance(2.0f, 2.25f));
+}
+
+}  // namespace
+}  // namespace lava
