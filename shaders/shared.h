@@ -11,6 +11,7 @@ namespace lava::gpu {
 using uint = std::uint32_t;
 using vec4 = glm::vec4;
 using uvec4 = glm::uvec4;
+using mat4 = glm::mat4;
 #define LAVA_FN inline
 #else
 #define LAVA_FN
@@ -52,6 +53,15 @@ struct StepParams {
   uvec4 chunk;    // x first particle of the bound range, y particles in it
 };
 
+// Push constants of lines.vert / ground.vert: camera and line style.
+struct DrawParams {
+  mat4 viewProj;  // world (m) to Vulkan clip space
+  vec4 style;     // x line scale s (s), y speed (m/s) at which a line is fully red,
+                  // z age (s) at which it has cooled to its darkest, w unused
+  vec4 crater;    // xyz emitter centre (m), w emitter radius (m)
+  uvec4 chunk;    // x first particle of the bound range
+};
+
 // lowbias32 (C. Wellons): a stateless 32-bit integer mix with good avalanche.
 LAVA_FN uint hashMix(uint x) {
   x ^= x >> 16u;
@@ -77,6 +87,7 @@ static_assert(sizeof(Particle) == 32, "Particle must match std430 (two vec4)");
 static_assert(sizeof(EmitEntry) == 16, "EmitEntry must match std430 (one uvec4)");
 static_assert(sizeof(StepParams) == 112, "StepParams must fit 128 bytes of push constants");
 static_assert(offsetof(StepParams, run) == 80, "StepParams members must stay vec4-aligned");
+static_assert(sizeof(DrawParams) == 112, "DrawParams must fit 128 bytes of push constants");
 }  // namespace lava::gpu
 #endif
 #undef LAVA_FN

@@ -161,8 +161,10 @@ void GpuSimulator::recordSteps(VkCommandBuffer commands, uint32_t first, uint32_
   vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
   gpu::StepParams params = stepParams(scene_);
   for (uint32_t done = 0; done < count; done += kStepsPerDispatch) {
-    // RAW/WAW: the previous dispatch or upload wrote the particles this one reads and writes.
-    barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+    // RAW/WAW: the previous dispatch or upload wrote the particles this one reads and writes;
+    // WAR: lines.vert of the last frame read them.
+    barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+                          VK_PIPELINE_STAGE_VERTEX_SHADER_BIT,
             VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
             VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
@@ -177,6 +179,12 @@ void GpuSimulator::recordSteps(VkCommandBuffer commands, uint32_t first, uint32_
       vkCmdDispatch(commands, (chunk.count + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1, 1);
     }
   }
+}
+
+std::vector<std::pair<uint32_t, uint32_t>> GpuSimulator::chunkRanges() const {
+  std::vector<std::pair<uint32_t, uint32_t>> ranges;
+  for (const Chunk& chunk : chunks_) ranges.emplace_back(chunk.first, chunk.count);
+  return ranges;
 }
 
 void GpuSimulator::advance(uint64_t steps) {

@@ -26,6 +26,8 @@ class GpuSimulator final : public Simulator {
   // Plans the next `count` steps into the schedule buffer from entry 0.
   void planSteps(uint32_t count);
   VkBuffer particleBuffer() const { return particles_.get(); }
+  // The [first, first + count) particle ranges one binding each covers.
+  std::vector<std::pair<uint32_t, uint32_t>> chunkRanges() const;
   const EmissionClock& clock() const { return clock_; }
 
   static constexpr uint32_t kStepsPerDispatch = 256;

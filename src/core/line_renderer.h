@@ -1,0 +1,45 @@
+// Draws the scene into a framebuffer it is given: the ground and crater, then one line per
+// particle pulled from the simulation's particle buffer (no copy). The swapchain and the
+// offscreen image are both just targets of renderPass().
+#pragma once
+#include <vector>
+
+#include "camera.h"
+#include "context.h"
+#include "gpu_simulator.h"
+#include "scene.h"
+
+namespace lava {
+
+class LineRenderer {
+ public:
+  static constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+
+  // finalLayout: the color attachment's layout after the pass (transfer source offscreen,
+  // present source for a swapchain).
+  LineRenderer(Context& context, const GpuSimulator& simulator, VkFormat colorFormat,
+               VkImageLayout finalLayout);
+
+  VkRenderPass renderPass() const { return renderPass_; }
+  // Records the barrier after step.comp, then the render pass into `framebuffer`.
+  void record(VkCommandBuffer commands, VkFramebuffer framebuffer, VkExtent2D extent,
+              const OrbitCamera& camera, const Scene& scene) const;
+
+ private:
+  struct Chunk {
+    uint32_t first;
+    uint32_t count;
+    VkDescriptorSet set;
+  };
+
+  Context& context_;
+  UniqueRenderPass renderPass_;
+  UniqueDescriptorSetLayout setLayout_;
+  UniquePipelineLayout pipelineLayout_;
+  UniquePipeline groundPipeline_;
+  UniquePipeline linePipeline_;
+  UniqueDescriptorPool descriptorPool_;
+  std::vector<Chunk> chunks_;
+};
+
+}  // namespace lava

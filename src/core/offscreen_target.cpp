@@ -1,0 +1,104 @@
+#include "offscreen_target.h"
+
+#include <cstring>
+
+#include "line_renderer.h"
+#include "vk_check.h"
+
+namespace lava {
+
+ImageWithMemory createImage(const Context& context, VkExtent2D extent, VkFormat format,
+                            VkImageUsageFlags usage, VkImageAspectFlags aspect) {
+  VkDevice device = context.device();
+  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = format;
+  info.extent = {extent.width, extent.height, 1};
+  info.mipLevels = 1;
+  info.arrayLayers = 1;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = usage;
+  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  VkImage image = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateImage(device, &info, nullptr, &image));
+  ImageWithMemory out;
+  out.image = UniqueImage(device, image);
+
+  VkMemoryRequirements requirements;
+  vkGetImageMemoryRequirements(device, image, &requirements);
+  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  alloc.allocationSize = requirements.size;
+  alloc.memoryTypeIndex = context.findMemoryType(requirements.memoryTypeBits,
+                                                 VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VK_CHECK(vkAllocateMemory(device, &alloc, nullptr, &memory));
+  out.memory = UniqueMemory(device, memory);
+  VK_CHECK(vkBindImageMemory(device, image, memory, 0));
+
+  VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  viewInfo.image = image;
+  viewInfo.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  viewInfo.format = format;
+  viewInfo.subresourceRange = {aspect, 0, 1, 0, 1};
+  VkImageView view = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateImageView(device, &viewInfo, nullptr, &view));
+  out.view = UniqueImageView(device, view);
+  return out;
+}
+
+OffscreenTarget::OffscreenTarget(const Context& context, VkRenderPass renderPass,
+                                 VkExtent2D extent)
+    : extent_(extent),
+      color_(createImage(context, extent, kColorFormat,
+                         VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                         VK_IMAGE_ASPECT_COLOR_BIT)),
+      depth_(createImage(context, extent, LineRenderer::kDepthFormat,
+                         VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT)),
+      readback_(context, VkDeviceSize{extent.width} * extent.height * 4,
+                VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT) {
+  VkImageView views[2] = {color_.view, depth_.view};
+  VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+  info.renderPass = renderPass;
+  info.attachmentCount = 2;
+  info.pAttachments = views;
+  info.width = extent.width;
+  info.height = extent.height;
+  info.layers = 1;
+  VkFramebuffer framebuffer = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateFramebuffer(context.device(), &info, nullptr, &framebuffer));
+  framebuffer_ = UniqueFramebuffer(context.device(), framebuffer);
+}
+
+void OffscreenTarget::recordReadback(VkCommandBuffer commands) const {
+  VkBufferImageCopy region{};
+  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.imageExtent = {extent_.width, extent_.height, 1};
+  vkCmdCopyImageToBuffer(commands, color_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                         readback_.get(), 1, &region);
+  // RAW: the host reads what the copy wrote.
+  VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  memory.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  memory.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
+                       &memory, 0, nullptr, 0, nullptr);
+}
+
+std::vector<uint8_t> OffscreenTarget::pixels() const {
+  std::vector<uint8_t> out(readback_.size());
+  std::memcpy(out.data(), readback_.mapped(), out.size());
+  return out;
+}
+
+std::vector<uint8_t> renderOffscreen(const Context& context, const LineRenderer& renderer,
+                                     const OffscreenTarget& target, const OrbitCamera& camera,
+                                     const Scene& scene) {
+  context.submitNow([&](VkCommandBuffer commands) {
+    renderer.record(commands, target.framebuffer(), target.extent(), camera, scene);
+    target.recordReadback(commands);
+  });
+  return target.pixels();
+}
+
+}  // namespace lava

@@ -1,0 +1,50 @@
+// A render target with no window: a color and a depth image, their framebuffer, and a
+// host-visible buffer the color image is copied into for reading back.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "buffer.h"
+#include "context.h"
+
+namespace lava {
+
+struct ImageWithMemory {
+  UniqueImage image;
+  UniqueMemory memory;
+  UniqueImageView view;
+};
+
+ImageWithMemory createImage(const Context& context, VkExtent2D extent, VkFormat format,
+                            VkImageUsageFlags usage, VkImageAspectFlags aspect);
+
+class OffscreenTarget {
+ public:
+  static constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
+
+  OffscreenTarget(const Context& context, VkRenderPass renderPass, VkExtent2D extent);
+  VkFramebuffer framebuffer() const { return framebuffer_; }
+  VkExtent2D extent() const { return extent_; }
+  // After the render pass (color in TRANSFER_SRC_OPTIMAL): copy the image for the host.
+  void recordReadback(VkCommandBuffer commands) const;
+  // RGBA8 pixels, row-major from the top-left, once the readback was submitted and waited on.
+  std::vector<uint8_t> pixels() const;
+
+ private:
+  VkExtent2D extent_;
+  ImageWithMemory color_;
+  ImageWithMemory depth_;
+  UniqueFramebuffer framebuffer_;
+  Buffer readback_;
+};
+
+class LineRenderer;
+struct OrbitCamera;
+struct Scene;
+
+// Renders the simulator's current particles into `target` and returns its pixels.
+std::vector<uint8_t> renderOffscreen(const Context& context, const LineRenderer& renderer,
+                                     const OffscreenTarget& target, const OrbitCamera& camera,
+                                     const Scene& scene);
+
+}  // namespace lava
