@@ -114,6 +114,13 @@ const BadInput kBadInputs[] = {
     {"validate --steps 0", "--steps"},
     {"validate --steps 10 --csv table.txt", "--csv"},
     {"info --device 42", "--device"},
+    {"render --frames 2 --size 0x0 --out frames", "--size"},
+    {"render --frames 2 --size 20000x20000 --out frames", "--size"},
+    {"render --frames 2 --size 640by480 --out frames", "--size"},
+    {"render --frames 0 --out frames", "--frames"},
+    {"render --frames 2 --fps 0 --out frames", "--fps"},
+    {"render --frames 2 --out /proc/lava-frames", "--out"},
+    {"render --frames 2", "--out"},
     {"frobnicate", "frobnicate"},
     {"simulate --steps 10 extra", "extra"},
     {"", "subcommand"},
@@ -199,6 +206,15 @@ TEST(Validate, SaysBitExactOnLavapipe) {
   EXPECT_NE(table.find("3000,20000,20000,0,0,0"), std::string::npos) << table;
 }
 
+TEST(Render, WritesPngFrames) {
+  const std::string folder = scratch("frames");
+  const Result r = lava("render --frames 3 --fps 10 --size 160x90 --out " + folder);
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* name : {"/frame_00000.png", "/frame_00001.png", "/frame_00002.png"})
+    EXPECT_EQ(readFile(folder + name).substr(0, 8), "\x89PNG\r\n\x1a\n") << name;
+  EXPECT_NE(r.out.find("wrote 3 frames (160x90)"), std::string::npos) << r.out;
+}
+
 TEST(Info, ListsTheDeviceAndTheLargestParticleCount) {
   const Result r = lava("info");
   EXPECT_EQ(r.status, 0) << r.err;
@@ -209,7 +225,7 @@ TEST(Info, ListsTheDeviceAndTheLargestParticleCount) {
 TEST(Help, ExitsZeroAndListsCommands) {
   const Result r = lava("--help");
   EXPECT_EQ(r.status, 0);
-  for (const char* command : {"demo", "simulate", "validate", "info"})
+  for (const char* command : {"demo", "simulate", "validate", "render", "info"})
     EXPECT_NE(r.out.find(command), std::string::npos) << command;
   EXPECT_EQ(lava("simulate --help").status, 0);
 }

@@ -1,0 +1,122 @@
+// The line renderer by image invariants on lavapipe: a known particle's line is lit with
+// the expected color, the sky stays the clear color, unborn slots draw nothing, color moves
+// toward red with speed and darkens with age.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+
+#include "line_renderer.h"
+#include "offscreen_target.h"
+#include "vulkan_test.h"
+
+namespace lava {
+namespace {
+
+constexpr VkExtent2D kSize{320, 240};
+
+class RenderTest : public test::VulkanTest {
+ protected:
+  // Renders `particles` (loaded as the simulator's state, no steps taken).
+  std::vector<uint8_t> render(const std::vector<Particle>& particles) {
+    Scene scene;
+    scene.particles = static_cast<uint32_t>(particles.size());
+    scene.lineScale = 0.3f;
+    GpuSimulator simulator(context(), scene);
+    SimState state = initialState(scene);
+    state.particles = particles;
+    simulator.load(state);
+    LineRenderer renderer(context(), simulator, OffscreenTarget::kColorFormat,
+                          VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    OffscreenTarget target(context(), renderer.renderPass(), kSize);
+    return renderOffscreen(context(), renderer, target, camera_, scene);
+  }
+
+  // Pixel position of a world point.
+  glm::ivec2 project(glm::vec3 p) const {
+    const glm::vec4 clip = camera_.viewProj(float(kSize.width) / float(kSize.height)) * glm::vec4(p, 1.0f);
+    return {int((clip.x / clip.w * 0.5f + 0.5f) * float(kSize.width)),
+            int((clip.y / clip.w * 0.5f + 0.5f) * float(kSize.height))};
+  }
+
+  // The brightest pixel (sum of RGB) within 2 pixels of `at`.
+  static std::array<int, 3> brightestNear(const std::vector<uint8_t>& image, glm::ivec2 at) {
+    std::array<int, 3> best{0, 0, 0};
+    for (int y = at.y - 2; y <= at.y + 2; ++y)
+      for (int x = at.x - 2; x <= at.x + 2; ++x) {
+        const uint8_t* p = &image[(size_t(y) * kSize.width + size_t(x)) * 4];
+        if (p[0] + p[1] + p[2] > best[0] + best[1] + best[2]) best = {p[0], p[1], p[2]};
+      }
+    return best;
+  }
+
+  static Particle particle(glm::vec3 x, glm::vec3 v, float age) {
+    return Particle{glm::vec4(x, age), glm::vec4(v, 1.0f)};
+  }
+
+  OrbitCamera camera_;
+};
+
+const glm::vec3 kSkyPoint{0.0f, 2.6f, 0.0f};  // above the horizon: only the clear color behind
+
+TEST_F(RenderTest, SlowParticleLineIsOrangeOnTheSky) {
+  const glm::vec3 v{0.8f, 0.0f, 0.0f};
+  const auto image = render({particle(kSkyPoint, v, 0.0f)});
+  const auto c = brightestNear(image, project(kSkyPoint + 0.5f * 0.3f * v));
+  EXPECT_GT(c[0], 200) << c[0] << "," << c[1] << "," << c[2];
+  EXPECT_GT(c[1], 80);   // orange: green about half of red
+  EXPECT_LT(c[1], 170);
+  EXPECT_LT(c[2], 60);
+  const uint8_t* corner = &image[0];  // top-left: sky
+  EXPECT_LT(corner[0] + corner[1] + corner[2], 20);
+}
+
+TEST_F(RenderTest, ColorMovesTowardRedWithSpeed) {
+  const glm::vec3 slow{0.4f, 0.0f, 0.0f}, fast{12.0f, 0.0f, 0.0f};
+  const auto a = brightestNear(render({particle(kSkyPoint, slow, 0.0f)}),
+                               project(kSkyPoint + 0.5f * 0.3f * slow));
+  const auto b = brightestNear(render({particle(kSkyPoint, fast, 0.0f)}),
+                               project(kSkyPoint + 0.05f * 0.3f * fast));
+  ASSERT_GT(a[0], 100);
+  ASSERT_GT(b[0], 100);
+  EXPECT_GT(double(a[1]) / a[0], 0.4);   // orange
+  EXPECT_LT(double(b[1]) / b[0], 0.15);  // red
+}
+
+TEST_F(RenderTest, ColorCoolsWithAge) {
+  const glm::vec3 v{0.8f, 0.0f, 0.0f};
+  const glm::ivec2 at = project(kSkyPoint + 0.5f * 0.3f * v);
+  const auto young = brightestNear(render({particle(kSkyPoint, v, 0.0f)}), at);
+  const auto old = brightestNear(render({particle(kSkyPoint, v, 10.0f)}), at);
+  EXPECT_LT(old[0], young[0] * 0.5);
+}
+
+TEST_F(RenderTest, UnbornSlotsDrawNothing) {
+  std::vector<Particle> unborn(500), moved(500);
+  for (size_t i = 0; i < unborn.size(); ++i) {
+    const float f = float(i) / 500.0f;
+    unborn[i] = particle({f - 0.5f, 1.0f + f, 0.0f}, {1.0f, 2.0f, 0.0f}, -1.0f);
+    moved[i] = particle({0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, -1.0f);
+  }
+  const auto a = render(unborn), b = render(moved);
+  EXPECT_EQ(a, b);  // where an unborn slot is does not matter: nothing is drawn
+  const auto c = brightestNear(a, project(kSkyPoint));
+  EXPECT_LT(c[0] + c[1] + c[2], 20);
+}
+
+TEST_F(RenderTest, DefaultSceneLightsManyPixelsOrangeAndRed) {
+  Scene scene;
+  GpuSimulator simulator(context(), scene);
+  simulator.advance(3000);
+  LineRenderer renderer(context(), simulator, OffscreenTarget::kColorFormat,
+                        VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+  OffscreenTarget target(context(), renderer.renderPass(), kSize);
+  const auto image = renderOffscreen(context(), renderer, target, camera_, scene);
+  size_t lava = 0;
+  for (size_t i = 0; i < image.size(); i += 4)
+    lava += image[i] > 120 && image[i] > 2 * image[i + 2] && image[i + 1] < image[i];
+  EXPECT_GT(lava, 1000u);
+}
+
+}  // namespace
+}  // namespace lava
