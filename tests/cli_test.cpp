@@ -30,10 +30,11 @@ std::string scratch(const std::string& name) {
   return ::testing::TempDir() + "lava_cli_" + std::to_string(getpid()) + "_" + name;
 }
 
-Result lava(const std::string& args) {
+// Runs build/lava with `args`; `prefix` goes before it (e.g. an `env` call).
+Result lava(const std::string& args, const std::string& prefix = "") {
   const std::string out = scratch("stdout"), err = scratch("stderr");
   const std::string command =
-      std::string(LAVA_EXE) + " " + args + " >" + out + " 2>" + err + " </dev/null";
+      prefix + std::string(LAVA_EXE) + " " + args + " >" + out + " 2>" + err + " </dev/null";
   const int raw = std::system(command.c_str());
   return {WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw), readFile(out), readFile(err)};
 }
@@ -213,6 +214,16 @@ TEST(Render, WritesPngFrames) {
   for (const char* name : {"/frame_00000.png", "/frame_00001.png", "/frame_00002.png"})
     EXPECT_EQ(readFile(folder + name).substr(0, 8), "\x89PNG\r\n\x1a\n") << name;
   EXPECT_NE(r.out.find("wrote 3 frames (160x90)"), std::string::npos) << r.out;
+}
+
+TEST(Demo, WithoutADisplayRendersHeadlessAndSaysWhere) {
+  const std::string folder = scratch("demo-frames");
+  const Result r = lava("demo --frames 2 --size 160x90 --out " + folder,
+                        "env -u DISPLAY -u WAYLAND_DISPLAY ");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("no display"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(folder), std::string::npos) << r.out;
+  EXPECT_EQ(readFile(folder + "/frame_00001.png").substr(0, 4), "\x89PNG");
 }
 
 TEST(Info, ListsTheDeviceAndTheLargestParticleCount) {

@@ -8,6 +8,13 @@ find_package(tomlplusplus REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(GLFW REQUIRED IMPORTED_TARGET glfw3)
 
+# Debian's libimgui-dev: a static library with the GLFW and Vulkan backends compiled in.
+pkg_check_modules(IMGUI REQUIRED IMPORTED_TARGET imgui)
+add_library(lava_imgui INTERFACE)
+target_link_libraries(lava_imgui INTERFACE PkgConfig::IMGUI PkgConfig::GLFW Vulkan::Vulkan)
+find_path(IMGUI_BACKENDS_DIR imgui_impl_vulkan.h PATH_SUFFIXES imgui/backends REQUIRED)
+target_include_directories(lava_imgui SYSTEM INTERFACE ${IMGUI_BACKENDS_DIR}/.. ${IMGUI_BACKENDS_DIR})
+
 find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
 
 find_path(STB_INCLUDE_DIR stb_image_write.h PATH_SUFFIXES stb REQUIRED)

@@ -1,12 +1,14 @@
-// `lava demo`: the interactive window. Until the renderer lands (issue 3) it runs the
-// default scene headless on the GPU and says what is missing.
+// `lava demo`: the interactive window; with no display (or --headless) the same scene is
+// rendered offscreen into PNG frames instead, and the command says where they are.
 #include <cstdio>
 #include <optional>
 
 #include "commands.h"
-#include "gpu_simulator.h"
+#include "demo_window.h"
+#include "frames.h"
 #include "options.h"
 #include "runtime.h"
+#include "vk_check.h"
 
 namespace lava::app {
 namespace {
@@ -14,30 +16,54 @@ namespace {
 class DemoCommand final : public Command {
  public:
   explicit DemoCommand(CLI::App& app)
-      : Command(app.add_subcommand("demo", "the interactive lava demo (window: issue 3)")),
+      : Command(app.add_subcommand("demo", "the interactive lava demo in a window")),
         options_(*command_) {
-    options_.addSceneFlags(scene_, device_);
+    options_.addSceneFlags(demo_.scene, demo_.device);
+    options_.add("size", Kind::Text, "window size WxH [1280x720]",
+                 [this](const std::string& src, const std::string& t) { demo_.size = parseSize(src, t); });
+    options_.add("frames", Kind::Number,
+                 "exit after N frames with an average-fps line, 1..10000000 [until closed; 90 headless]",
+                 [this](const std::string& src, const std::string& t) {
+                   demo_.frames = static_cast<uint32_t>(parseInteger(src, t, 1, 10000000));
+                 });
+    command_->add_flag("--headless", headless_, "render PNG frames offscreen instead of a window");
+    command_->add_flag("--vsync", demo_.vsync, "present with FIFO (vsync); default: fastest mode");
+    command_->add_flag("--exercise", demo_.exercise,
+                       "resize, minimise and restore the window on a schedule (for tests)");
+    options_.add("out", Kind::Text, "folder for headless frames [lava-demo-frames]",
+                 [this](const std::string& src, const std::string& t) { out_ = outputFolder(src, t); });
   }
 
   int run() override {
     options_.resolve();
-    Context context(contextOptions(device_));
-    GpuSimulator simulator(context, scene_);
-    const uint64_t steps = static_cast<uint64_t>(5.0 / double(scene_.dt));
-    simulator.advance(steps);
-    uint64_t alive = 0;
-    for (const Particle& p : simulator.state().particles) alive += p.posAge.w >= 0.0f;
-    std::printf("demo: simulated 5 s of the lava crater on %s (%llu particles alive).\n"
-                "demo: the window and line renderer are not built yet (issue 3); meanwhile "
-                "'lava simulate --out state.npy' and 'lava validate' work.\n",
-                context.properties().deviceName, static_cast<unsigned long long>(alive));
+    demo_.validation = contextOptions(demo_.device).validation;
+    if (!headless_) {
+      try {
+        const DemoSummary s = runDemoWindow(demo_);
+        std::printf("demo: %u frames in %.2f s, average %.1f fps (%ux%u, %u particles, %s, %s)\n",
+                    s.frames, s.seconds, s.seconds > 0 ? s.frames / s.seconds : 0.0, s.size.width,
+                    s.size.height, demo_.scene.particles, s.device.c_str(), s.presentMode.c_str());
+        return s.validationMessages ? 1 : 0;
+      } catch (const NoDisplay& e) {
+        std::printf("demo: %s; rendering headless instead\n", e.what());
+      }
+    }
+    FramePlan plan;
+    plan.frames = demo_.frames ? demo_.frames : 90;
+    plan.size = demo_.size;
+    plan.folder = outputFolder("--out", out_);
+    Context context(contextOptions(demo_.device));
+    renderFrames(context, demo_.scene, plan);
+    std::printf("demo: wrote %u headless frames (%ux%u) to %s/frame_*.png\n", plan.frames,
+                plan.size.width, plan.size.height, plan.folder.c_str());
     return finish(context, 0);
   }
 
  private:
   Options options_;
-  Scene scene_;
-  std::optional<unsigned> device_;
+  DemoOptions demo_;
+  bool headless_ = false;
+  std::string out_ = "lava-demo-frames";
 };
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 
 #include "pipeline.h"
@@ -148,8 +149,16 @@ SimState GpuSimulator::state() {
   return out;
 }
 
-void GpuSimulator::planSteps(uint32_t count) {
-  auto* entries = static_cast<gpu::EmitEntry*>(schedule_.mapped());
+void GpuSimulator::setScene(const Scene& scene) {
+  if (scene.particles != scene_.particles)
+    throw UsageError("--particles: the capacity of a running simulation cannot change");
+  scene_ = scene;
+}
+
+void GpuSimulator::planSteps(uint32_t first, uint32_t count) {
+  if (first + count > kStepsPerSubmit)
+    throw std::out_of_range("planSteps: schedule has " + std::to_string(kStepsPerSubmit) + " entries");
+  auto* entries = static_cast<gpu::EmitEntry*>(schedule_.mapped()) + first;
   for (uint32_t k = 0; k < count; ++k) {
     EmitStep e = clock_.advance(scene_.rate, scene_.dt, scene_.particles);
     entries[k].ring = {e.head, e.count, static_cast<uint32_t>(e.firstSerial),
@@ -190,7 +199,7 @@ std::vector<std::pair<uint32_t, uint32_t>> GpuSimulator::chunkRanges() const {
 void GpuSimulator::advance(uint64_t steps) {
   while (steps > 0) {
     const uint32_t batch = static_cast<uint32_t>(std::min<uint64_t>(steps, kStepsPerSubmit));
-    planSteps(batch);
+    planSteps(0, batch);
     context_.submitNow([&](VkCommandBuffer commands) { recordSteps(commands, 0, batch); });
     steps -= batch;
   }

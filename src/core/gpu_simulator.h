@@ -21,10 +21,13 @@ class GpuSimulator final : public Simulator {
   SimState state() override;
   void load(const SimState& state) override;
 
-  // Records `count` steps whose schedule entries start at `first` (already written).
+  // Plans the next `count` steps into schedule entries [first, first + count): the host's
+  // ring bookkeeping. Entries still read by a submitted frame must not be planned over.
+  void planSteps(uint32_t first, uint32_t count);
+  // Records those steps (after planSteps) for submission by the caller.
   void recordSteps(VkCommandBuffer commands, uint32_t first, uint32_t count) const;
-  // Plans the next `count` steps into the schedule buffer from entry 0.
-  void planSteps(uint32_t count);
+  // Changes parameters that keep the capacity (the demo's live controls).
+  void setScene(const Scene& scene);
   VkBuffer particleBuffer() const { return particles_.get(); }
   // The [first, first + count) particle ranges one binding each covers.
   std::vector<std::pair<uint32_t, uint32_t>> chunkRanges() const;

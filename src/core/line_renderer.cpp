@@ -186,6 +186,14 @@ LineRenderer::LineRenderer(Context& context, const GpuSimulator& simulator, VkFo
       {kLinesVertSpv, sizeof(kLinesVertSpv), kLinesFragSpv, sizeof(kLinesFragSpv)},
       VK_PRIMITIVE_TOPOLOGY_LINE_LIST, true);
 
+  bind(simulator);
+}
+
+void LineRenderer::bind(const GpuSimulator& simulator) {
+  VkDevice device = context_.device();
+  VkDescriptorSetLayout setLayout = setLayout_;
+  chunks_.clear();
+  descriptorPool_.reset();
   const auto ranges = simulator.chunkRanges();
   VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                                 static_cast<uint32_t>(ranges.size())};
@@ -217,7 +225,8 @@ LineRenderer::LineRenderer(Context& context, const GpuSimulator& simulator, VkFo
 }
 
 void LineRenderer::record(VkCommandBuffer commands, VkFramebuffer framebuffer, VkExtent2D extent,
-                          const OrbitCamera& camera, const Scene& scene) const {
+                          const OrbitCamera& camera, const Scene& scene,
+                          const std::function<void(VkCommandBuffer)>& overlay) const {
   // RAW: step.comp writes particles, lines.vert reads them.
   VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   memory.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
@@ -259,6 +268,7 @@ void LineRenderer::record(VkCommandBuffer commands, VkFramebuffer framebuffer, V
     vkCmdPushConstants(commands, pipelineLayout_, stages, 0, sizeof(params), &params);
     vkCmdDraw(commands, 2 * chunk.count, 1, 0, 0);
   }
+  if (overlay) overlay(commands);
   vkCmdEndRenderPass(commands);
 }
 

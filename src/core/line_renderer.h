@@ -2,6 +2,7 @@
 // particle pulled from the simulation's particle buffer (no copy). The swapchain and the
 // offscreen image are both just targets of renderPass().
 #pragma once
+#include <functional>
 #include <vector>
 
 #include "camera.h"
@@ -21,9 +22,13 @@ class LineRenderer {
                VkImageLayout finalLayout);
 
   VkRenderPass renderPass() const { return renderPass_; }
-  // Records the barrier after step.comp, then the render pass into `framebuffer`.
+  // Points the line pipeline at `simulator`'s particle buffer (after a restart).
+  void bind(const GpuSimulator& simulator);
+  // Records the barrier after step.comp, then the render pass into `framebuffer`;
+  // `overlay` (e.g. the UI) records into the same pass after the lines.
   void record(VkCommandBuffer commands, VkFramebuffer framebuffer, VkExtent2D extent,
-              const OrbitCamera& camera, const Scene& scene) const;
+              const OrbitCamera& camera, const Scene& scene,
+              const std::function<void(VkCommandBuffer)>& overlay = {}) const;
 
  private:
   struct Chunk {

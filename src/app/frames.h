@@ -1,0 +1,29 @@
+// Headless frames: the scene simulated and drawn offscreen, one PNG per frame. Used by
+// `lava render` and by `lava demo` when there is no display.
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <string>
+
+#include "context.h"
+#include "scene.h"
+
+namespace lava::app {
+
+struct FramePlan {
+  uint32_t frames = 1;
+  double fps = 30.0;             // frames per simulated second
+  VkExtent2D size{1280, 720};
+  double warmup = 3.0;           // seconds simulated before the first frame
+  std::string folder;            // frame_00000.png ... go here
+};
+
+VkExtent2D parseSize(const std::string& source, const std::string& text);
+// Throws UsageError naming --size unless both sides fit the device's image limit.
+void checkSize(const Context& context, VkExtent2D size);
+// Creates `path` if missing; throws UsageError naming `source` unless it is a writable folder.
+std::string outputFolder(const std::string& source, const std::string& path);
+
+void renderFrames(Context& context, const Scene& scene, const FramePlan& plan);
+
+}  // namespace lava::app

@@ -1,0 +1,44 @@
+// The interactive lava demo: a GLFW window presenting the same LineRenderer through a
+// swapchain, a fixed-step simulation decoupled from the frame rate, an orbit camera, and a
+// Dear ImGui panel with every scene parameter live and GPU timings.
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "scene.h"
+
+namespace lava {
+
+// No window could be opened (no display, no Vulkan surface support): fall back to headless.
+class NoDisplay : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct DemoOptions {
+  Scene scene;
+  VkExtent2D size{1280, 720};
+  uint32_t frames = 0;  // exit after this many presented frames; 0: until the window closes
+  bool vsync = false;   // FIFO presentation; else mailbox or immediate when offered
+  bool exercise = false;  // resize, minimise and restore the window on a schedule (tests)
+  std::optional<unsigned> device;
+  bool validation = false;
+};
+
+struct DemoSummary {
+  uint32_t frames = 0;
+  double seconds = 0.0;
+  VkExtent2D size{0, 0};
+  std::string device;
+  std::string presentMode;
+  uint32_t validationMessages = 0;
+};
+
+// Runs the window until closed or `frames` are presented; throws NoDisplay when there is
+// no window to open.
+DemoSummary runDemoWindow(const DemoOptions& options);
+
+}  // namespace lava

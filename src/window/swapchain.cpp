@@ -1,0 +1,142 @@
+#include "swapchain.h"
+
+#include <algorithm>
+
+#include "line_renderer.h"
+#include "vk_check.h"
+
+namespace lava {
+
+VkSurfaceFormatKHR Swapchain::chooseFormat(const Context& context, VkSurfaceKHR surface) {
+  uint32_t count = 0;
+  VK_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(context.physicalDevice(), surface, &count, nullptr));
+  std::vector<VkSurfaceFormatKHR> formats(count);
+  VK_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(context.physicalDevice(), surface, &count,
+                                                formats.data()));
+  if (formats.empty()) throw ResourceError("the window surface offers no formats");
+  // UNORM like the offscreen target, so window and PNG frames look the same.
+  for (const VkSurfaceFormatKHR& f : formats)
+    if ((f.format == VK_FORMAT_B8G8R8A8_UNORM || f.format == VK_FORMAT_R8G8B8A8_UNORM) &&
+        f.colorSpace == VK_COLOR_SPACE_SRGB_NONLINEAR_KHR)
+      return f;
+  return formats.front();
+}
+
+Swapchain::Swapchain(const Context& context, VkSurfaceKHR surface, VkRenderPass renderPass,
+                     VkSurfaceFormatKHR format, bool vsync)
+    : context_(context), surface_(surface), renderPass_(renderPass), format_(format) {
+  VkBool32 supported = VK_FALSE;
+  VK_CHECK(vkGetPhysicalDeviceSurfaceSupportKHR(context.physicalDevice(), context.queueFamily(),
+                                                surface, &supported));
+  if (!supported) throw ResourceError("the chosen device cannot present to this window");
+  if (!vsync) {
+    uint32_t count = 0;
+    VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(context.physicalDevice(), surface, &count,
+                                                       nullptr));
+    std::vector<VkPresentModeKHR> modes(count);
+    VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(context.physicalDevice(), surface, &count,
+                                                       modes.data()));
+    for (VkPresentModeKHR wanted : {VK_PRESENT_MODE_MAILBOX_KHR, VK_PRESENT_MODE_IMMEDIATE_KHR})
+      if (std::find(modes.begin(), modes.end(), wanted) != modes.end()) {
+        presentMode_ = wanted;
+        break;
+      }
+  }
+}
+
+Swapchain::~Swapchain() {
+  destroyViews();
+  if (swapchain_) vkDestroySwapchainKHR(context_.device(), swapchain_, nullptr);
+}
+
+const char* Swapchain::presentModeName() const {
+  switch (presentMode_) {
+    case VK_PRESENT_MODE_MAILBOX_KHR:
+      return "mailbox";
+    case VK_PRESENT_MODE_IMMEDIATE_KHR:
+      return "immediate";
+    default:
+      return "fifo (vsync)";
+  }
+}
+
+void Swapchain::destroyViews() {
+  renderFinished_.clear();
+  framebuffers_.clear();
+  depth_ = {};
+  views_.clear();
+  images_.clear();
+}
+
+bool Swapchain::recreate(VkExtent2D framebufferSize) {
+  VkDevice device = context_.device();
+  VK_CHECK(vkDeviceWaitIdle(device));
+  VkSurfaceCapabilitiesKHR caps;
+  VK_CHECK(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(context_.physicalDevice(), surface_, &caps));
+  VkExtent2D extent = caps.currentExtent;
+  if (extent.width == UINT32_MAX) {
+    extent.width = std::clamp(framebufferSize.width, caps.minImageExtent.width, caps.maxImageExtent.width);
+    extent.height = std::clamp(framebufferSize.height, caps.minImageExtent.height, caps.maxImageExtent.height);
+  }
+  if (extent.width == 0 || extent.height == 0) return false;  // minimised: nothing to draw into
+
+  uint32_t imageCount = std::max(caps.minImageCount + 1, 3u);
+  if (caps.maxImageCount > 0) imageCount = std::min(imageCount, caps.maxImageCount);
+  VkSwapchainCreateInfoKHR info{VK_STRUCTURE_TYPE_SWAPCHAIN_CREATE_INFO_KHR};
+  info.surface = surface_;
+  info.minImageCount = imageCount;
+  info.imageFormat = format_.format;
+  info.imageColorSpace = format_.colorSpace;
+  info.imageExtent = extent;
+  info.imageArrayLayers = 1;
+  info.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+  info.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  info.preTransform = caps.currentTransform;
+  info.compositeAlpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
+  info.presentMode = presentMode_;
+  info.clipped = VK_TRUE;
+  info.oldSwapchain = swapchain_;
+  VkSwapchainKHR created = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateSwapchainKHR(device, &info, nullptr, &created));
+  destroyViews();
+  if (swapchain_) vkDestroySwapchainKHR(device, swapchain_, nullptr);
+  swapchain_ = created;
+  extent_ = extent;
+
+  uint32_t count = 0;
+  VK_CHECK(vkGetSwapchainImagesKHR(device, swapchain_, &count, nullptr));
+  images_.resize(count);
+  VK_CHECK(vkGetSwapchainImagesKHR(device, swapchain_, &count, images_.data()));
+  depth_ = createImage(context_, extent, LineRenderer::kDepthFormat,
+                       VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
+  for (VkImage image : images_) {
+    VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    viewInfo.image = image;
+    viewInfo.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    viewInfo.format = format_.format;
+    viewInfo.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    VkImageView view = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateImageView(device, &viewInfo, nullptr, &view));
+    views_.emplace_back(device, view);
+
+    VkImageView attachments[2] = {view, depth_.view};
+    VkFramebufferCreateInfo fbInfo{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+    fbInfo.renderPass = renderPass_;
+    fbInfo.attachmentCount = 2;
+    fbInfo.pAttachments = attachments;
+    fbInfo.width = extent.width;
+    fbInfo.height = extent.height;
+    fbInfo.layers = 1;
+    VkFramebuffer framebuffer = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateFramebuffer(device, &fbInfo, nullptr, &framebuffer));
+    framebuffers_.emplace_back(device, framebuffer);
+
+    VkSemaphoreCreateInfo semaphoreInfo{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+    VkSemaphore semaphore = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateSemaphore(device, &semaphoreInfo, nullptr, &semaphore));
+    renderFinished_.emplace_back(device, semaphore);
+  }
+  return true;
+}
+
+}  // namespace lava
