@@ -40,6 +40,7 @@ struct Particle {
 // One step's emission, written by the host (ring-buffer bookkeeping stays on the host).
 struct EmitEntry {
   uvec4 ring;  // x first slot (head), y slots born this step, z serial low, w serial high
+  uvec4 sums;  // x particles emitted before this step since the plan began (mod 2^32)
 };
 
 // Push constants of step.comp: the scene plus which steps and particles to run.
@@ -84,7 +85,7 @@ LAVA_FN float signedUnit(uint bits) {
 
 #ifdef __cplusplus
 static_assert(sizeof(Particle) == 32, "Particle must match std430 (two vec4)");
-static_assert(sizeof(EmitEntry) == 16, "EmitEntry must match std430 (one uvec4)");
+static_assert(sizeof(EmitEntry) == 32, "EmitEntry must match std430 (two uvec4)");
 static_assert(sizeof(StepParams) == 112, "StepParams must fit 128 bytes of push constants");
 static_assert(offsetof(StepParams, run) == 80, "StepParams members must stay vec4-aligned");
 static_assert(sizeof(DrawParams) == 112, "DrawParams must fit 128 bytes of push constants");

@@ -51,33 +51,65 @@ void main() {
     return;
   }
   uint slot = p.chunk.x + local;
+  uint capacity = p.run.y;
+
+  // Only the last birth of this slot within the dispatch matters: emission overwrites the
+  // whole particle. The dispatch's births fill the ring contiguously from the first step's
+  // head, so the last one landing on this slot is found arithmetically and its step by a
+  // binary search over the running sums: the costly emission (hashes, disc rejection) runs
+  // once per dispatch, not masked in every step as SIMD drivers such as lavapipe would.
+  const uint firstEntry = p.run.z;
+  const uint steps = p.run.w;
+  uvec4 start = schedule[firstEntry].ring;
+  uint base = schedule[firstEntry].sums.x;
+  EmitEntry last = schedule[firstEntry + steps - 1u];
+  uint total = last.sums.x + last.ring.y - base;  // births in this dispatch (host keeps < 2^31)
+  uint rel = slot >= start.x ? slot - start.x : slot + capacity - start.x;
+  uint born = steps;  // none
+  uint serialLo = 0u;
+  uint serialHi = 0u;
+  if (rel < total) {
+    uint birth = rel + ((total - 1u - rel) / capacity) * capacity;  // index of the last birth
+    uint lo = 0u;
+    uint hi = steps - 1u;
+    while (lo < hi) {  // the last step whose births start at or before `birth`
+      uint mid = (lo + hi + 1u) >> 1u;
+      if (schedule[firstEntry + mid].sums.x - base <= birth) {
+        lo = mid;
+      } else {
+        hi = mid - 1u;
+      }
+    }
+    born = lo;
+    serialLo = start.z + birth;
+    serialHi = start.w + (serialLo < start.z ? 1u : 0u);
+  }
+
   Particle q = particles[local];
   precise vec3 x = q.posAge.xyz;
   precise vec3 v = q.velMass.xyz;
   precise float age = q.posAge.w;
   precise float m = q.velMass.w;
+  uint first = 0u;
+  if (born < steps) {
+    emit(serialLo, serialHi, x, v);
+    age = 0.0;
+    m = p.material.z;
+    first = born;
+  }
+  if (age < 0.0) {
+    return;  // never emitted: the slot stays as it is
+  }
+
   precise float h = p.velocity.w;
   precise float g = p.spread.w;
-  uint capacity = p.run.y;
-
-  for (uint s = 0u; s < p.run.w; ++s) {
-    uvec4 ring = schedule[p.run.z + s].ring;
-    uint rel = slot >= ring.x ? slot - ring.x : slot + capacity - ring.x;
-    if (rel < ring.y) {
-      uint serialLo = ring.z + rel;
-      uint serialHi = ring.w + (serialLo < ring.z ? 1u : 0u);
-      emit(serialLo, serialHi, x, v);
-      age = 0.0;
-      m = p.material.z;
-    }
-    if (age < 0.0) {
-      continue;
-    }
+  precise float hm = h / m;  // the same quotient the reference computes every step
+  for (uint s = first; s < steps; ++s) {
     // Explicit Euler: position with the start-of-step velocity, then velocity.
     precise vec3 v0 = v;
     x = x + h * v0;
     precise vec3 f = vec3(p.wind.x, p.wind.y - m * g, p.wind.z) - p.wind.w * v0;
-    v = v0 + (h / m) * f;
+    v = v0 + hm * f;
     age = age + h;
     // Ground impulse (seed eq. 7) with tangential damping and static friction.
     if (x.y < 0.0) {

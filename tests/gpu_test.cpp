@@ -58,6 +58,26 @@ TEST_F(GpuTest, RandomScenesAreBitIdenticalToTheCpuReference) {
   }
 }
 
+TEST_F(GpuTest, RingWrapsManyTimesWithinOneDispatch) {
+  // step.comp finds each slot's last birth in a dispatch arithmetically; these scenes wrap
+  // the ring several times per dispatch, fill it whole every step, or barely emit.
+  const std::pair<uint32_t, double> cases[] = {
+      {7, 3000.0}, {64, 64000.0}, {100, 1e9}, {5000, 333.3}, {1, 500.0}, {4099, 123456.7}};
+  for (const auto& [capacity, rate] : cases) {
+    SCOPED_TRACE("capacity " + std::to_string(capacity) + ", rate " + std::to_string(rate));
+    Scene s;
+    s.particles = capacity;
+    s.rate = rate;
+    GpuSimulator gpu(context(), s);
+    CpuSimulator cpu(s);
+    for (uint64_t steps : {1u, 255u, 256u, 257u, 1000u}) {
+      gpu.advance(steps);
+      cpu.advance(steps);
+      expectIdentical(gpu.state().particles, cpu.state().particles);
+    }
+  }
+}
+
 TEST_F(GpuTest, SeedSceneIsBitIdenticalAndPinned) {
   const Scene s;
   GpuSimulator gpu(context(), s);

@@ -54,6 +54,7 @@ GpuSimulator::GpuSimulator(Context& context, const Scene& scene)
                     VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, hostMemory);
   schedule_ = Buffer(context, kStepsPerSubmit * sizeof(gpu::EmitEntry),
                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, hostMemory);
+  planned_.resize(kStepsPerSubmit + 1);
 
   VkDevice device = context.device();
   VkDescriptorSetLayoutBinding bindings[2] = {};
@@ -158,18 +159,28 @@ void GpuSimulator::setScene(const Scene& scene) {
 void GpuSimulator::planSteps(uint32_t first, uint32_t count) {
   if (first + count > kStepsPerSubmit)
     throw std::out_of_range("planSteps: schedule has " + std::to_string(kStepsPerSubmit) + " entries");
-  auto* entries = static_cast<gpu::EmitEntry*>(schedule_.mapped()) + first;
-  for (uint32_t k = 0; k < count; ++k) {
+  auto* entries = static_cast<gpu::EmitEntry*>(schedule_.mapped());
+  uint64_t births = 0;  // only differences within one dispatch matter
+  for (uint32_t k = first; k < first + count; ++k) {
     EmitStep e = clock_.advance(scene_.rate, scene_.dt, scene_.particles);
     entries[k].ring = {e.head, e.count, static_cast<uint32_t>(e.firstSerial),
                        static_cast<uint32_t>(e.firstSerial >> 32)};
+    entries[k].sums = {static_cast<uint32_t>(births), 0u, 0u, 0u};
+    planned_[k] = births;
+    births += e.count;
   }
+  planned_[first + count] = births;
 }
 
 void GpuSimulator::recordSteps(VkCommandBuffer commands, uint32_t first, uint32_t count) const {
   vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
   gpu::StepParams params = stepParams(scene_);
-  for (uint32_t done = 0; done < count; done += kStepsPerDispatch) {
+  for (uint32_t done = 0, steps = 0; done < count; done += steps) {
+    // At most kStepsPerDispatch steps and fewer than 2^31 births (the shader's 32-bit sums).
+    steps = 1;
+    while (done + steps < count && steps < kStepsPerDispatch &&
+           planned_[first + done + steps + 1] - planned_[first + done] < (1ull << 31))
+      ++steps;
     // RAW/WAW: the previous dispatch or upload wrote the particles this one reads and writes;
     // WAR: lines.vert of the last frame read them.
     barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
@@ -178,7 +189,7 @@ void GpuSimulator::recordSteps(VkCommandBuffer commands, uint32_t first, uint32_
             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
             VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
     params.run.z = first + done;
-    params.run.w = std::min(kStepsPerDispatch, count - done);
+    params.run.w = steps;
     for (const Chunk& chunk : chunks_) {
       params.chunk = {chunk.first, chunk.count, 0u, 0u};
       vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_, 0, 1,

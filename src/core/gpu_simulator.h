@@ -53,6 +53,7 @@ class GpuSimulator final : public Simulator {
   UniquePipeline pipeline_;
   UniqueDescriptorPool descriptorPool_;
   std::vector<Chunk> chunks_;
+  std::vector<uint64_t> planned_;  // births before each planned entry (host copy of sums.x)
 };
 
 }  // namespace lava
