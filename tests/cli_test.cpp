@@ -122,6 +122,14 @@ const BadInput kBadInputs[] = {
     {"render --frames 2 --fps 0 --out frames", "--fps"},
     {"render --frames 2 --out /proc/lava-frames", "--out"},
     {"render --frames 2", "--out"},
+    {"bench --sizes 0", "--sizes"},
+    {"bench --sizes 1000,abc", "--sizes"},
+    {"bench --sizes 1000,", "--sizes"},
+    {"bench --sizes 99999999999", "--sizes"},
+    {"bench --steps 0", "--steps"},
+    {"bench --steps-per-dispatch 300", "--steps-per-dispatch"},
+    {"bench --backends tpu", "--backends"},
+    {"bench --json results.txt", "--json"},
     {"frobnicate", "frobnicate"},
     {"simulate --steps 10 extra", "extra"},
     {"", "subcommand"},
@@ -226,6 +234,19 @@ TEST(Demo, WithoutADisplayRendersHeadlessAndSaysWhere) {
   EXPECT_EQ(readFile(folder + "/frame_00001.png").substr(0, 4), "\x89PNG");
 }
 
+TEST(Bench, WritesTheJsonItPromises) {
+  const std::string json = scratch("bench.json");
+  const Result r = lava("bench --sizes 4096,8192 --steps 20 --json " + json);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string text = readFile(json);
+  for (const char* key : {"\"device\"", "\"results\"", "\"backend\": \"gpu\"",
+                          "\"backend\": \"cpu\"", "\"backend\": \"cpu-mt\"",
+                          "\"particles\": 8192", "\"steps\": 20", "\"updates_per_second\"",
+                          "\"bytes_per_update\": 64", "\"roofline_fraction\""})
+    EXPECT_NE(text.find(key), std::string::npos) << key << "\n" << text;
+  EXPECT_EQ(std::count(text.begin(), text.end(), '{'), 7) << text;  // 2 sizes x 3 backends
+}
+
 TEST(Info, ListsTheDeviceAndTheLargestParticleCount) {
   const Result r = lava("info");
   EXPECT_EQ(r.status, 0) << r.err;
@@ -236,7 +257,7 @@ TEST(Info, ListsTheDeviceAndTheLargestParticleCount) {
 TEST(Help, ExitsZeroAndListsCommands) {
   const Result r = lava("--help");
   EXPECT_EQ(r.status, 0);
-  for (const char* command : {"demo", "simulate", "validate", "render", "info"})
+  for (const char* command : {"demo", "simulate", "validate", "render", "bench", "info"})
     EXPECT_NE(r.out.find(command), std::string::npos) << command;
   EXPECT_EQ(lava("simulate --help").status, 0);
 }

@@ -21,6 +21,7 @@ std::unique_ptr<Command> makeSimulate(CLI::App& app);
 std::unique_ptr<Command> makeValidate(CLI::App& app);
 std::unique_ptr<Command> makeInfo(CLI::App& app);
 std::unique_ptr<Command> makeRender(CLI::App& app);
+std::unique_ptr<Command> makeBench(CLI::App& app);
 std::unique_ptr<Command> makeDemo(CLI::App& app);
 
 }  // namespace lava::app

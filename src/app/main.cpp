@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   commands.push_back(lava::app::makeSimulate(app));
   commands.push_back(lava::app::makeValidate(app));
   commands.push_back(lava::app::makeRender(app));
+  commands.push_back(lava::app::makeBench(app));
   commands.push_back(lava::app::makeInfo(app));
 
   if (argc > 1 && argv[1][0] != '-') {

@@ -178,7 +178,7 @@ void GpuSimulator::recordSteps(VkCommandBuffer commands, uint32_t first, uint32_
   for (uint32_t done = 0, steps = 0; done < count; done += steps) {
     // At most kStepsPerDispatch steps and fewer than 2^31 births (the shader's 32-bit sums).
     steps = 1;
-    while (done + steps < count && steps < kStepsPerDispatch &&
+    while (done + steps < count && steps < stepsPerDispatch_ &&
            planned_[first + done + steps + 1] - planned_[first + done] < (1ull << 31))
       ++steps;
     // RAW/WAW: the previous dispatch or upload wrote the particles this one reads and writes;
@@ -214,6 +214,23 @@ void GpuSimulator::advance(uint64_t steps) {
     context_.submitNow([&](VkCommandBuffer commands) { recordSteps(commands, 0, batch); });
     steps -= batch;
   }
+}
+
+double GpuSimulator::advanceTimed(uint64_t steps) {
+  const TimestampPair timer(context_);
+  double seconds = 0.0;
+  while (steps > 0) {
+    const uint32_t batch = static_cast<uint32_t>(std::min<uint64_t>(steps, kStepsPerSubmit));
+    planSteps(0, batch);
+    context_.submitNow([&](VkCommandBuffer commands) {
+      timer.recordStart(commands);
+      recordSteps(commands, 0, batch);
+      timer.recordEnd(commands);
+    });
+    seconds += timer.seconds();
+    steps -= batch;
+  }
+  return seconds;
 }
 
 }  // namespace lava

@@ -6,6 +6,7 @@
 #include "buffer.h"
 #include "context.h"
 #include "simulator.h"
+#include "timestamps.h"
 
 namespace lava {
 
@@ -18,6 +19,10 @@ class GpuSimulator final : public Simulator {
  public:
   GpuSimulator(Context& context, const Scene& scene);
   void advance(uint64_t steps) override;
+  // advance() that also returns the GPU time of the steps (timestamp queries), in seconds.
+  double advanceTimed(uint64_t steps);
+  // Steps one dispatch fuses (1..kStepsPerDispatch): fewer moves more memory per step.
+  void setStepsPerDispatch(uint32_t steps) { stepsPerDispatch_ = steps; }
   SimState state() override;
   void load(const SimState& state) override;
 
@@ -53,7 +58,8 @@ class GpuSimulator final : public Simulator {
   UniquePipeline pipeline_;
   UniqueDescriptorPool descriptorPool_;
   std::vector<Chunk> chunks_;
-  std::vector<uint64_t> planned_;  // births before each planned entry (host copy of sums.x)
+  std::vector<uint64_t> planned_;
+  uint32_t stepsPerDispatch_ = kStepsPerDispatch;  // births before each planned entry (host copy of sums.x)
 };
 
 }  // namespace lava

@@ -1,0 +1,139 @@
+#include "roofline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <thread>
+#include <vector>
+
+#include "copy_comp.h"
+#include "gpu_simulator.h"
+#include "pipeline.h"
+#include "timestamps.h"
+#include "vk_check.h"
+
+namespace lava {
+namespace {
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  return values[values.size() / 2];
+}
+
+}  // namespace
+
+double gpuCopySeconds(Context& context, uint32_t particles, int passes) {
+  VkDevice device = context.device();
+  const VkDeviceSize bytes = VkDeviceSize{particles} * sizeof(Particle);
+  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  Buffer source(context, bytes, usage, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  Buffer destination(context, bytes, usage, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+
+  VkDescriptorSetLayoutBinding bindings[2] = {};
+  for (uint32_t b = 0; b < 2; ++b) {
+    bindings[b].binding = b;
+    bindings[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    bindings[b].descriptorCount = 1;
+    bindings[b].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+  }
+  VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  setInfo.bindingCount = 2;
+  setInfo.pBindings = bindings;
+  VkDescriptorSetLayout rawSetLayout = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &rawSetLayout));
+  UniqueDescriptorSetLayout setLayout(device, rawSetLayout);
+  VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(glm::uvec4)};
+  VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  layoutInfo.setLayoutCount = 1;
+  layoutInfo.pSetLayouts = &rawSetLayout;
+  layoutInfo.pushConstantRangeCount = 1;
+  layoutInfo.pPushConstantRanges = &push;
+  VkPipelineLayout rawLayout = VK_NULL_HANDLE;
+  VK_CHECK(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &rawLayout));
+  UniquePipelineLayout layout(device, rawLayout);
+  UniquePipeline pipeline =
+      createComputePipeline(device, layout, kCopyCompSpv, sizeof(kCopyCompSpv), gpu::kWorkgroupSize);
+
+  const uint32_t perChunk = particlesPerChunk(context);
+  const uint32_t chunks = (particles + perChunk - 1) / perChunk;
+  VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * chunks};
+  VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  poolInfo.maxSets = chunks;
+  poolInfo.poolSizeCount = 1;
+  poolInfo.pPoolSizes = &poolSize;
+  VkDescriptorPool rawPool = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateDescriptorPool(device, &poolInfo, nullptr, &rawPool));
+  UniqueDescriptorPool pool(device, rawPool);
+  std::vector<std::pair<VkDescriptorSet, uint32_t>> sets;
+  for (uint32_t first = 0; first < particles; first += perChunk) {
+    const uint32_t count = std::min(perChunk, particles - first);
+    VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    alloc.descriptorPool = rawPool;
+    alloc.descriptorSetCount = 1;
+    alloc.pSetLayouts = &rawSetLayout;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    VK_CHECK(vkAllocateDescriptorSets(device, &alloc, &set));
+    VkDescriptorBufferInfo ranges[2] = {
+        {source.get(), first * sizeof(Particle), count * sizeof(Particle)},
+        {destination.get(), first * sizeof(Particle), count * sizeof(Particle)}};
+    VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
+                                      {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
+    for (uint32_t b = 0; b < 2; ++b) {
+      writes[b].dstSet = set;
+      writes[b].dstBinding = b;
+      writes[b].descriptorCount = 1;
+      writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      writes[b].pBufferInfo = &ranges[b];
+    }
+    vkUpdateDescriptorSets(device, 2, writes, 0, nullptr);
+    sets.emplace_back(set, count);
+  }
+
+  TimestampPair timer(context);
+  std::vector<double> times;
+  for (int pass = -1; pass < passes; ++pass) {  // pass -1 warms up
+    context.submitNow([&](VkCommandBuffer commands) {
+      // WAW: the previous pass wrote the destination this one overwrites.
+      VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+      memory.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+      memory.dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+      vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &memory, 0, nullptr, 0,
+                           nullptr);
+      timer.recordStart(commands);
+      vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+      for (const auto& [set, count] : sets) {
+        const glm::uvec4 chunk{0u, count, 0u, 0u};
+        vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 0,
+                                nullptr);
+        vkCmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(chunk), &chunk);
+        vkCmdDispatch(commands, (count + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1, 1);
+      }
+      timer.recordEnd(commands);
+    });
+    if (pass >= 0) times.push_back(timer.seconds());
+  }
+  return median(times);
+}
+
+double cpuCopySeconds(uint32_t particles, unsigned threads, int passes) {
+  std::vector<Particle> source(particles, Particle{{1, 2, 3, 4}, {5, 6, 7, 8}});
+  std::vector<Particle> destination(particles);
+  std::vector<double> times;
+  for (int pass = -1; pass < passes; ++pass) {
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<std::thread> workers;
+    for (unsigned t = 0; t < threads; ++t)
+      workers.emplace_back([&, t] {
+        const size_t begin = size_t{particles} * t / threads;
+        const size_t end = size_t{particles} * (t + 1) / threads;
+        std::memcpy(&destination[begin], &source[begin], (end - begin) * sizeof(Particle));
+      });
+    for (std::thread& w : workers) w.join();
+    if (pass >= 0)
+      times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  return median(times);
+}
+
+}  // namespace lava
