@@ -40,9 +40,11 @@ class DemoCommand final : public Command {
     if (!headless_) {
       try {
         const DemoSummary s = runDemoWindow(demo_);
-        std::printf("demo: %u frames in %.2f s, average %.1f fps (%ux%u, %u particles, %s, %s)\n",
+        std::printf("demo: %u frames in %.2f s, average %.1f fps (%ux%u, %u particles, %s, %s; "
+                    "GPU per frame: simulate %.2f ms, draw %.2f ms)\n",
                     s.frames, s.seconds, s.seconds > 0 ? s.frames / s.seconds : 0.0, s.size.width,
-                    s.size.height, demo_.scene.particles, s.device.c_str(), s.presentMode.c_str());
+                    s.size.height, demo_.scene.particles, s.device.c_str(), s.presentMode.c_str(),
+                    s.simulateMs, s.drawMs);
         return s.validationMessages ? 1 : 0;
       } catch (const NoDisplay& e) {
         std::printf("demo: %s; rendering headless instead\n", e.what());

@@ -186,6 +186,8 @@ class Demo {
     summary.size = swapchain_.extent();
     summary.device = context_.properties().deviceName;
     summary.presentMode = swapchain_.presentModeName();
+    summary.simulateMs = simulateMs_;
+    summary.drawMs = drawMs_;
     for (const std::string& m : context_.takeValidationMessages()) {
       std::fprintf(stderr, "lava: validation: %s\n", m.c_str());
       ++summary.validationMessages;

@@ -35,6 +35,8 @@ struct DemoSummary {
   std::string device;
   std::string presentMode;
   uint32_t validationMessages = 0;
+  double simulateMs = 0.0;  // GPU time per frame (smoothed timestamps) of the simulation
+  double drawMs = 0.0;      // and of the draw
 };
 
 // Runs the window until closed or `frames` are presented; throws NoDisplay when there is
