@@ -76,6 +76,11 @@ const std::string kUnknownKey = writeScene("unknown.toml", "particles = 100\nlav
 const std::string kWrongType = writeScene("type.toml", "restitution = \"high\"\n");
 const std::string kWrongArity = writeScene("arity.toml", "emitter = [1.0, 2.0]\n");
 const std::string kBadRange = writeScene("range.toml", "friction = 2.5\n");
+const std::string kNanScene = writeScene("nan.toml", "restitution = nan\n");
+const std::string kInfScene = writeScene("inf.toml", "gravity = -inf\n");
+const std::string kNegativeCount = writeScene("negative.toml", "particles = -5\n");
+const std::string kBoolScene = writeScene("bool.toml", "mass = true\n");
+const std::string kTableScene = writeScene("table.toml", "[emitter]\nx = 1\n");
 
 const BadInput kBadInputs[] = {
     {"simulate --steps 10 --restitution abc", "--restitution"},
@@ -110,6 +115,11 @@ const BadInput kBadInputs[] = {
     {"simulate --steps 10 --out /nonexistent/dir/state.npy", "--out"},
     {"simulate --steps 10 --out state.txt", "--out"},
     {"simulate --steps 10 --device 99", "--device"},
+    {"simulate --steps 10 --particles 100000000", "--particles"},
+    {"simulate --steps 10 --dt 1e-50", "--dt"},
+    {"simulate --steps 10 --rate 1e400", "--rate"},
+    {"simulate --steps 10 --velocity 1,2,3,", "--velocity"},
+    {"simulate --steps 10 --emitter ' 1,2,3'", "--emitter"},
     {"validate --steps 10 --tolerance-ulp -1", "--tolerance-ulp"},
     {"validate --steps 10 --every 0", "--every"},
     {"validate --steps 0", "--steps"},
@@ -149,6 +159,11 @@ TEST(SceneFile, HostileScenesExitTwoNamingTheKey) {
       {kWrongType, "restitution"},
       {kWrongArity, "emitter"},
       {kBadRange, "friction"},
+      {kNanScene, "restitution"},
+      {kInfScene, "gravity"},
+      {kNegativeCount, "particles"},
+      {kBoolScene, "mass"},
+      {kTableScene, "emitter"},
   };
   for (const auto& [path, mentions] : cases) {
     const Result r = lava("simulate --steps 1 --scene " + path);
@@ -245,6 +260,25 @@ TEST(Bench, WritesTheJsonItPromises) {
                           "\"bytes_per_update\": 64", "\"roofline_fraction\""})
     EXPECT_NE(text.find(key), std::string::npos) << key << "\n" << text;
   EXPECT_EQ(std::count(text.begin(), text.end(), '{'), 7) << text;  // 2 sizes x 3 backends
+}
+
+TEST(Environment, NoVulkanDriverIsOneClearLine) {
+  const Result r = lava("info", "env VK_DRIVER_FILES=/nonexistent/icd.json VK_ICD_FILENAMES=/nonexistent/icd.json ");
+  EXPECT_EQ(r.status, 1) << r.out << r.err;
+  EXPECT_NE(r.err.find("no Vulkan"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+TEST(Environment, BadLavaDeviceIsAUsageError) {
+  const Result r = lava("info", "env LAVA_DEVICE=seven ");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("LAVA_DEVICE"), std::string::npos) << r.err;
+}
+
+TEST(Environment, CpuBackendNeedsNoVulkan) {
+  const Result r = lava("simulate --steps 100 --backend cpu",
+                        "env VK_DRIVER_FILES=/nonexistent/icd.json VK_ICD_FILENAMES=/nonexistent/icd.json ");
+  EXPECT_EQ(r.status, 0) << r.err;
 }
 
 TEST(Info, ListsTheDeviceAndTheLargestParticleCount) {

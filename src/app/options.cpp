@@ -174,9 +174,9 @@ void Options::addSceneFlags(Scene& s, std::optional<unsigned>& device) {
       });
   add("rate", Kind::Number, "emission rate in particles/s, 0..1e9 [" + formatNumber(d.rate) + "]",
       [&s](const std::string& src, const std::string& t) { s.rate = parseNumber(src, t, 0, 1e9); });
-  add("dt", Kind::Number, "step h in seconds, (0, 1] [" + f(d.dt) + "]",
+  add("dt", Kind::Number, "step h in seconds, 1e-6..1 [" + f(d.dt) + "]",
       [&s](const std::string& src, const std::string& t) {
-        s.dt = static_cast<float>(parseNumber(src, t, 0, 1, true));
+        s.dt = static_cast<float>(parseNumber(src, t, 1e-6, 1));
       });
   add("gravity", Kind::Number, "g in m/s^2, -1000..1000 [" + f(d.gravity) + "]",
       [&s](const std::string& src, const std::string& t) {
@@ -205,9 +205,9 @@ void Options::addSceneFlags(Scene& s, std::optional<unsigned>& device) {
       [&s](const std::string& src, const std::string& t) { s.velocity = parseVec3(src, t, -1e4, 1e4); });
   add("spread", Kind::Vector, "launch velocity spread in m/s, each 0..1e4 [" + vec(d.spread) + "]",
       [&s](const std::string& src, const std::string& t) { s.spread = parseVec3(src, t, 0, 1e4); });
-  add("mass", Kind::Number, "particle mass in kg, (0, 1e6] [" + f(d.mass) + "]",
+  add("mass", Kind::Number, "particle mass in kg, 1e-6..1e6 [" + f(d.mass) + "]",
       [&s](const std::string& src, const std::string& t) {
-        s.mass = static_cast<float>(parseNumber(src, t, 0, 1e6, true));
+        s.mass = static_cast<float>(parseNumber(src, t, 1e-6, 1e6));
       });
   add("wind", Kind::Vector, "wind force in N, each -1e4..1e4 [" + vec(d.wind) + "]",
       [&s](const std::string& src, const std::string& t) { s.wind = parseVec3(src, t, -1e4, 1e4); });

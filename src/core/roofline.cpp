@@ -22,13 +22,9 @@ double median(std::vector<double> values) {
 
 }  // namespace
 
-double gpuCopySeconds(Context& context, uint32_t particles, int passes) {
+CopyKernel::CopyKernel(const Context& context, const Buffer& source, const Buffer& destination,
+                       uint32_t particles) {
   VkDevice device = context.device();
-  const VkDeviceSize bytes = VkDeviceSize{particles} * sizeof(Particle);
-  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-  Buffer source(context, bytes, usage, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  Buffer destination(context, bytes, usage, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-
   VkDescriptorSetLayoutBinding bindings[2] = {};
   for (uint32_t b = 0; b < 2; ++b) {
     bindings[b].binding = b;
@@ -39,19 +35,19 @@ double gpuCopySeconds(Context& context, uint32_t particles, int passes) {
   VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   setInfo.bindingCount = 2;
   setInfo.pBindings = bindings;
-  VkDescriptorSetLayout rawSetLayout = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &rawSetLayout));
-  UniqueDescriptorSetLayout setLayout(device, rawSetLayout);
+  VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &setLayout));
+  setLayout_ = UniqueDescriptorSetLayout(device, setLayout);
   VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(glm::uvec4)};
   VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
   layoutInfo.setLayoutCount = 1;
-  layoutInfo.pSetLayouts = &rawSetLayout;
+  layoutInfo.pSetLayouts = &setLayout;
   layoutInfo.pushConstantRangeCount = 1;
   layoutInfo.pPushConstantRanges = &push;
-  VkPipelineLayout rawLayout = VK_NULL_HANDLE;
-  VK_CHECK(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &rawLayout));
-  UniquePipelineLayout layout(device, rawLayout);
-  UniquePipeline pipeline =
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VK_CHECK(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &layout));
+  layout_ = UniquePipelineLayout(device, layout);
+  pipeline_ =
       createComputePipeline(device, layout, kCopyCompSpv, sizeof(kCopyCompSpv), gpu::kWorkgroupSize);
 
   const uint32_t perChunk = particlesPerChunk(context);
@@ -61,16 +57,15 @@ double gpuCopySeconds(Context& context, uint32_t particles, int passes) {
   poolInfo.maxSets = chunks;
   poolInfo.poolSizeCount = 1;
   poolInfo.pPoolSizes = &poolSize;
-  VkDescriptorPool rawPool = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateDescriptorPool(device, &poolInfo, nullptr, &rawPool));
-  UniqueDescriptorPool pool(device, rawPool);
-  std::vector<std::pair<VkDescriptorSet, uint32_t>> sets;
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool));
+  pool_ = UniqueDescriptorPool(device, pool);
   for (uint32_t first = 0; first < particles; first += perChunk) {
     const uint32_t count = std::min(perChunk, particles - first);
     VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    alloc.descriptorPool = rawPool;
+    alloc.descriptorPool = pool;
     alloc.descriptorSetCount = 1;
-    alloc.pSetLayouts = &rawSetLayout;
+    alloc.pSetLayouts = &setLayout;
     VkDescriptorSet set = VK_NULL_HANDLE;
     VK_CHECK(vkAllocateDescriptorSets(device, &alloc, &set));
     VkDescriptorBufferInfo ranges[2] = {
@@ -86,10 +81,28 @@ double gpuCopySeconds(Context& context, uint32_t particles, int passes) {
       writes[b].pBufferInfo = &ranges[b];
     }
     vkUpdateDescriptorSets(device, 2, writes, 0, nullptr);
-    sets.emplace_back(set, count);
+    sets_.emplace_back(set, count);
   }
+}
 
-  TimestampPair timer(context);
+void CopyKernel::record(VkCommandBuffer commands) const {
+  vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+  for (const auto& [set, count] : sets_) {
+    const glm::uvec4 chunk{0u, count, 0u, 0u};
+    vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set, 0,
+                            nullptr);
+    vkCmdPushConstants(commands, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(chunk), &chunk);
+    vkCmdDispatch(commands, (count + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1, 1);
+  }
+}
+
+double gpuCopySeconds(Context& context, uint32_t particles, int passes) {
+  const VkDeviceSize bytes = VkDeviceSize{particles} * sizeof(Particle);
+  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  Buffer source(context, bytes, usage, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  Buffer destination(context, bytes, usage, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  const CopyKernel copy(context, source, destination, particles);
+  const TimestampPair timer(context);
   std::vector<double> times;
   for (int pass = -1; pass < passes; ++pass) {  // pass -1 warms up
     context.submitNow([&](VkCommandBuffer commands) {
@@ -101,14 +114,7 @@ double gpuCopySeconds(Context& context, uint32_t particles, int passes) {
                            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &memory, 0, nullptr, 0,
                            nullptr);
       timer.recordStart(commands);
-      vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-      for (const auto& [set, count] : sets) {
-        const glm::uvec4 chunk{0u, count, 0u, 0u};
-        vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 0,
-                                nullptr);
-        vkCmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(chunk), &chunk);
-        vkCmdDispatch(commands, (count + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1, 1);
-      }
+      copy.record(commands);
       timer.recordEnd(commands);
     });
     if (pass >= 0) times.push_back(timer.seconds());

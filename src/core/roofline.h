@@ -3,10 +3,29 @@
 #pragma once
 #include <cstdint>
 
+#include <utility>
+#include <vector>
+
 #include "buffer.h"
 #include "context.h"
 
 namespace lava {
+
+// copy.comp from one buffer of particles into another, chunked like the simulation.
+class CopyKernel {
+ public:
+  CopyKernel(const Context& context, const Buffer& source, const Buffer& destination,
+             uint32_t particles);
+  // Records the dispatches only: the caller owns the barriers around them.
+  void record(VkCommandBuffer commands) const;
+
+ private:
+  UniqueDescriptorSetLayout setLayout_;
+  UniquePipelineLayout layout_;
+  UniquePipeline pipeline_;
+  UniqueDescriptorPool pool_;
+  std::vector<std::pair<VkDescriptorSet, uint32_t>> sets_;  // set, particles in its range
+};
 
 // Seconds the GPU takes for one pass of copy.comp over `particles` particles (median of
 // `passes` timed passes, after a warm-up).
