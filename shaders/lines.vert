@@ -3,6 +3,7 @@
 // 8-9), read straight from the buffer step.comp writes. Unborn slots fall outside the clip.
 #extension GL_GOOGLE_include_directive : require
 #include "shared.h"
+#include "lava_color.glsl"
 
 layout(std430, binding = kParticleBinding) restrict readonly buffer Particles {
   Particle particles[];
@@ -11,9 +12,6 @@ layout(push_constant) uniform Push {
   DrawParams d;
 };
 layout(location = 0) out vec4 color;
-
-const vec3 kOrange = vec3(1.0, 0.55, 0.08);
-const vec3 kRed = vec3(0.95, 0.06, 0.02);
 
 void main() {
   Particle q = particles[gl_VertexIndex >> 1];
@@ -25,7 +23,5 @@ void main() {
   vec3 v = q.velMass.xyz;
   vec3 p = q.posAge.xyz + float(gl_VertexIndex & 1) * d.style.x * v;
   gl_Position = d.viewProj * vec4(p, 1.0);
-  float hot = clamp(length(v) / d.style.y, 0.0, 1.0);
-  float cooling = clamp(q.posAge.w / d.style.z, 0.0, 1.0);
-  color = vec4(mix(kOrange, kRed, hot) * mix(1.0, 0.3, cooling), 1.0);
+  color = vec4(lavaColor(v, q.posAge.w, d.style), 1.0);
 }

@@ -63,6 +63,16 @@ struct DrawParams {
   uvec4 chunk;    // x first particle of the bound range
 };
 
+// Push constants of splat.comp and resolve.frag, the fast line renderer.
+struct SplatParams {
+  mat4 viewProj;  // as DrawParams
+  vec4 style;     // as DrawParams
+  uvec4 target;   // x width, y height (pixels), z particles in the bound range
+};
+// Fixed-point scale of one line's color in the accumulation buffer (red in the high 16
+// bits, green in the low 16): about a thousand lines can overlap before green overflows.
+const float kSplatScale = 48.0f;
+
 // lowbias32 (C. Wellons): a stateless 32-bit integer mix with good avalanche.
 LAVA_FN uint hashMix(uint x) {
   x ^= x >> 16u;
@@ -89,6 +99,7 @@ static_assert(sizeof(EmitEntry) == 32, "EmitEntry must match std430 (two uvec4)"
 static_assert(sizeof(StepParams) == 112, "StepParams must fit 128 bytes of push constants");
 static_assert(offsetof(StepParams, run) == 80, "StepParams members must stay vec4-aligned");
 static_assert(sizeof(DrawParams) == 112, "DrawParams must fit 128 bytes of push constants");
+static_assert(sizeof(SplatParams) == 96, "SplatParams must fit 128 bytes of push constants");
 }  // namespace lava::gpu
 #endif
 #undef LAVA_FN

@@ -132,6 +132,8 @@ const BadInput kBadInputs[] = {
     {"render --frames 2 --fps 0 --out frames", "--fps"},
     {"render --frames 2 --out /proc/lava-frames", "--out"},
     {"render --frames 2", "--out"},
+    {"render --frames 2 --renderer raytrace --out frames", "--renderer"},
+    {"demo --renderer raytrace", "--renderer"},
     {"bench --sizes 0", "--sizes"},
     {"bench --sizes 1000,abc", "--sizes"},
     {"bench --sizes 1000,", "--sizes"},
@@ -232,7 +234,7 @@ TEST(Validate, SaysBitExactOnLavapipe) {
 
 TEST(Render, WritesPngFrames) {
   const std::string folder = scratch("frames");
-  const Result r = lava("render --frames 3 --fps 10 --size 160x90 --out " + folder);
+  const Result r = lava("render --frames 3 --fps 10 --size 160x90 --renderer splat --out " + folder);
   ASSERT_EQ(r.status, 0) << r.err;
   for (const char* name : {"/frame_00000.png", "/frame_00001.png", "/frame_00002.png"})
     EXPECT_EQ(readFile(folder + name).substr(0, 8), "\x89PNG\r\n\x1a\n") << name;

@@ -18,7 +18,8 @@ constexpr VkExtent2D kSize{320, 240};
 class RenderTest : public test::VulkanTest {
  protected:
   // Renders `particles` (loaded as the simulator's state, no steps taken).
-  std::vector<uint8_t> render(const std::vector<Particle>& particles) {
+  std::vector<uint8_t> render(const std::vector<Particle>& particles,
+                              LineMode mode = LineMode::Pipeline) {
     Scene scene;
     scene.particles = static_cast<uint32_t>(particles.size());
     scene.lineScale = 0.3f;
@@ -28,6 +29,7 @@ class RenderTest : public test::VulkanTest {
     simulator.load(state);
     LineRenderer renderer(context(), simulator, OffscreenTarget::kColorFormat,
                           VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    renderer.setMode(mode);
     OffscreenTarget target(context(), renderer.renderPass(), kSize);
     return renderOffscreen(context(), renderer, target, camera_, scene);
   }
@@ -102,6 +104,48 @@ TEST_F(RenderTest, UnbornSlotsDrawNothing) {
   EXPECT_EQ(a, b);  // where an unborn slot is does not matter: nothing is drawn
   const auto c = brightestNear(a, project(kSkyPoint));
   EXPECT_LT(c[0] + c[1] + c[2], 20);
+}
+
+TEST_F(RenderTest, SplatDrawsTheSameLineInTheSameColor) {
+  const glm::vec3 v{0.8f, 0.0f, 0.0f};
+  const glm::ivec2 at = project(kSkyPoint + 0.5f * 0.3f * v);
+  const auto reference = brightestNear(render({particle(kSkyPoint, v, 0.0f)}), at);
+  const auto splat = brightestNear(render({particle(kSkyPoint, v, 0.0f)}, LineMode::Splat), at);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(splat[c], reference[c], 6) << "channel " << c;
+}
+
+TEST_F(RenderTest, SplatMovesTowardRedWithSpeedAndDrawsNoUnbornSlot) {
+  const glm::vec3 slow{0.4f, 0.0f, 0.0f}, fast{12.0f, 0.0f, 0.0f};
+  const auto a = brightestNear(render({particle(kSkyPoint, slow, 0.0f)}, LineMode::Splat),
+                               project(kSkyPoint + 0.5f * 0.3f * slow));
+  const auto b = brightestNear(render({particle(kSkyPoint, fast, 0.0f)}, LineMode::Splat),
+                               project(kSkyPoint + 0.05f * 0.3f * fast));
+  ASSERT_GT(a[0], 100);
+  ASSERT_GT(b[0], 100);
+  EXPECT_GT(double(a[1]) / a[0], 0.4);
+  EXPECT_LT(double(b[1]) / b[0], 0.15);
+  std::vector<Particle> unborn(300, particle(kSkyPoint, slow, -1.0f));
+  EXPECT_EQ(render(unborn, LineMode::Splat), render({particle(kSkyPoint, slow, -1.0f)}, LineMode::Splat));
+}
+
+TEST_F(RenderTest, SplatAndPipelineLightTheSamePixels) {
+  Scene scene;
+  GpuSimulator simulator(context(), scene);
+  simulator.advance(3000);
+  LineRenderer renderer(context(), simulator, OffscreenTarget::kColorFormat,
+                        VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+  OffscreenTarget target(context(), renderer.renderPass(), kSize);
+  const auto lines = renderOffscreen(context(), renderer, target, camera_, scene);
+  renderer.setMode(LineMode::Splat);
+  const auto splat = renderOffscreen(context(), renderer, target, camera_, scene);
+  size_t litLines = 0, litBoth = 0;
+  for (size_t i = 0; i < lines.size(); i += 4) {
+    const bool a = lines[i] > 100, b = splat[i] > 100;
+    litLines += a;
+    litBoth += a && b;
+  }
+  ASSERT_GT(litLines, 500u);
+  EXPECT_GT(double(litBoth) / double(litLines), 0.7);  // rasterisation rules differ slightly
 }
 
 TEST_F(RenderTest, DefaultSceneLightsManyPixelsOrangeAndRed) {

@@ -26,6 +26,11 @@ class DemoCommand final : public Command {
                  [this](const std::string& src, const std::string& t) {
                    demo_.frames = static_cast<uint32_t>(parseInteger(src, t, 1, 10000000));
                  });
+    options_.add("renderer", Kind::Text,
+                 "splat (compute, fast) or lines (the graphics pipeline, the reference) [splat]",
+                 [this](const std::string& src, const std::string& t) {
+                   demo_.lines = parseLineMode(src, t);
+                 });
     command_->add_flag("--headless", headless_, "render PNG frames offscreen instead of a window");
     command_->add_flag("--vsync", demo_.vsync, "present with FIFO (vsync); default: fastest mode");
     command_->add_flag("--exercise", demo_.exercise,
@@ -54,6 +59,7 @@ class DemoCommand final : public Command {
     plan.frames = demo_.frames ? demo_.frames : 90;
     plan.size = demo_.size;
     plan.folder = outputFolder("--out", out_);
+    plan.lines = demo_.lines;
     Context context(contextOptions(demo_.device));
     renderFrames(context, demo_.scene, plan);
     std::printf("demo: wrote %u headless frames (%ux%u) to %s/frame_*.png\n", plan.frames,

@@ -48,6 +48,7 @@ void renderFrames(Context& context, const Scene& scene, const FramePlan& plan) {
   GpuSimulator simulator(context, scene);
   LineRenderer renderer(context, simulator, OffscreenTarget::kColorFormat,
                         VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+  renderer.setMode(plan.lines);
   OffscreenTarget target(context, renderer.renderPass(), plan.size);
   OrbitCamera camera;
   simulator.advance(static_cast<uint64_t>(std::llround(plan.warmup / double(scene.dt))));

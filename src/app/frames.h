@@ -6,6 +6,7 @@
 #include <string>
 
 #include "context.h"
+#include "line_renderer.h"
 #include "scene.h"
 
 namespace lava::app {
@@ -16,6 +17,7 @@ struct FramePlan {
   VkExtent2D size{1280, 720};
   double warmup = 3.0;           // seconds simulated before the first frame
   std::string folder;            // frame_00000.png ... go here
+  LineMode lines = LineMode::Pipeline;
 };
 
 VkExtent2D parseSize(const std::string& source, const std::string& text);

@@ -42,6 +42,11 @@ class RenderCommand final : public Command {
                  [this](const std::string& src, const std::string& t) {
                    plan_.folder = outputFolder(src, t);
                  }, true);
+    options_.add("renderer", Kind::Text,
+                 "lines (the graphics pipeline, the reference) or splat (compute) [lines]",
+                 [this](const std::string& src, const std::string& t) {
+                   plan_.lines = parseLineMode(src, t);
+                 });
     options_.add("video", Kind::Text, "also encode FILE.mp4 with ffmpeg (must be installed)",
                  [this](const std::string& src, const std::string& t) {
                    checkOutputPath(src, t, ".mp4");

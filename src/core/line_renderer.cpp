@@ -66,93 +66,20 @@ UniqueRenderPass createRenderPass(VkDevice device, VkFormat colorFormat, VkImage
   return UniqueRenderPass(device, pass);
 }
 
-struct GraphicsShaders {
-  const uint32_t* vert;
-  size_t vertBytes;
-  const uint32_t* frag;
-  size_t fragBytes;
-};
-
-UniquePipeline createGraphicsPipeline(VkDevice device, VkPipelineLayout layout, VkRenderPass pass,
-                                      const GraphicsShaders& shaders, VkPrimitiveTopology topology,
-                                      bool additive) {
-  UniqueShaderModule vert = createShaderModule(device, shaders.vert, shaders.vertBytes);
-  UniqueShaderModule frag = createShaderModule(device, shaders.frag, shaders.fragBytes);
-  VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
-                                               {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
-  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-  stages[0].module = vert;
-  stages[0].pName = "main";
-  stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-  stages[1].module = frag;
-  stages[1].pName = "main";
-  VkPipelineVertexInputStateCreateInfo vertexInput{
-      VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-  VkPipelineInputAssemblyStateCreateInfo assembly{
-      VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-  assembly.topology = topology;
-  VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-  viewport.viewportCount = 1;
-  viewport.scissorCount = 1;
-  VkPipelineRasterizationStateCreateInfo raster{
-      VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-  raster.polygonMode = VK_POLYGON_MODE_FILL;
-  raster.cullMode = VK_CULL_MODE_NONE;
-  raster.lineWidth = 1.0f;
-  VkPipelineMultisampleStateCreateInfo multisample{
-      VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-  VkPipelineDepthStencilStateCreateInfo depth{
-      VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-  depth.depthTestEnable = VK_TRUE;
-  depth.depthWriteEnable = additive ? VK_FALSE : VK_TRUE;  // glowing lines do not occlude
-  depth.depthCompareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
-  VkPipelineColorBlendAttachmentState blend{};
-  blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                         VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
-  if (additive) {
-    blend.blendEnable = VK_TRUE;
-    blend.srcColorBlendFactor = VK_BLEND_FACTOR_ONE;
-    blend.dstColorBlendFactor = VK_BLEND_FACTOR_ONE;
-    blend.colorBlendOp = VK_BLEND_OP_ADD;
-    blend.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
-    blend.dstAlphaBlendFactor = VK_BLEND_FACTOR_ZERO;
-    blend.alphaBlendOp = VK_BLEND_OP_ADD;
-  }
-  VkPipelineColorBlendStateCreateInfo blendState{
-      VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-  blendState.attachmentCount = 1;
-  blendState.pAttachments = &blend;
-  VkDynamicState dynamics[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-  dynamic.dynamicStateCount = 2;
-  dynamic.pDynamicStates = dynamics;
-
-  VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-  info.stageCount = 2;
-  info.pStages = stages;
-  info.pVertexInputState = &vertexInput;
-  info.pInputAssemblyState = &assembly;
-  info.pViewportState = &viewport;
-  info.pRasterizationState = &raster;
-  info.pMultisampleState = &multisample;
-  info.pDepthStencilState = &depth;
-  info.pColorBlendState = &blendState;
-  info.pDynamicState = &dynamic;
-  info.layout = layout;
-  info.renderPass = pass;
-  VkPipeline pipeline = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));
-  return UniquePipeline(device, pipeline);
-}
-
 }  // namespace
+
+LineMode parseLineMode(const std::string& source, const std::string& text) {
+  if (text == "lines") return LineMode::Pipeline;
+  if (text == "splat") return LineMode::Splat;
+  throw UsageError(source + ": expected lines or splat, got '" + text + "'");
+}
 
 LineRenderer::LineRenderer(Context& context, const GpuSimulator& simulator, VkFormat colorFormat,
                            VkImageLayout finalLayout)
-    : context_(context) {
+    : context_(context),
+      renderPass_(createRenderPass(context.device(), colorFormat, finalLayout)),
+      splat_(context, renderPass_, simulator) {
   VkDevice device = context.device();
-  renderPass_ = createRenderPass(device, colorFormat, finalLayout);
 
   VkDescriptorSetLayoutBinding binding{};
   binding.binding = gpu::kParticleBinding;
@@ -177,19 +104,21 @@ LineRenderer::LineRenderer(Context& context, const GpuSimulator& simulator, VkFo
   VK_CHECK(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &pipelineLayout));
   pipelineLayout_ = UniquePipelineLayout(device, pipelineLayout);
 
-  groundPipeline_ = createGraphicsPipeline(
-      device, pipelineLayout, renderPass_,
-      {kGroundVertSpv, sizeof(kGroundVertSpv), kGroundFragSpv, sizeof(kGroundFragSpv)},
-      VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, false);
-  linePipeline_ = createGraphicsPipeline(
-      device, pipelineLayout, renderPass_,
-      {kLinesVertSpv, sizeof(kLinesVertSpv), kLinesFragSpv, sizeof(kLinesFragSpv)},
-      VK_PRIMITIVE_TOPOLOGY_LINE_LIST, true);
+  GraphicsPipelineDesc ground{kGroundVertSpv, sizeof(kGroundVertSpv), kGroundFragSpv,
+                              sizeof(kGroundFragSpv)};
+  groundPipeline_ = createGraphicsPipeline(device, pipelineLayout, renderPass_, ground);
+  GraphicsPipelineDesc lines{kLinesVertSpv, sizeof(kLinesVertSpv), kLinesFragSpv,
+                             sizeof(kLinesFragSpv)};
+  lines.topology = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
+  lines.additive = true;
+  lines.depthWrite = false;  // glowing lines do not occlude
+  linePipeline_ = createGraphicsPipeline(device, pipelineLayout, renderPass_, lines);
 
   bind(simulator);
 }
 
 void LineRenderer::bind(const GpuSimulator& simulator) {
+  splat_.bind(simulator);
   VkDevice device = context_.device();
   VkDescriptorSetLayout setLayout = setLayout_;
   chunks_.clear();
@@ -226,13 +155,18 @@ void LineRenderer::bind(const GpuSimulator& simulator) {
 
 void LineRenderer::record(VkCommandBuffer commands, VkFramebuffer framebuffer, VkExtent2D extent,
                           const OrbitCamera& camera, const Scene& scene,
-                          const std::function<void(VkCommandBuffer)>& overlay) const {
-  // RAW: step.comp writes particles, lines.vert reads them.
+                          const std::function<void(VkCommandBuffer)>& overlay) {
+  // RAW: step.comp writes particles, lines.vert (or splat.comp) reads them.
   VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   memory.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
   memory.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
   vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                       VK_PIPELINE_STAGE_VERTEX_SHADER_BIT, 0, 1, &memory, 0, nullptr, 0, nullptr);
+                       VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       0, 1, &memory, 0, nullptr, 0, nullptr);
+  const glm::mat4 viewProj = camera.viewProj(float(extent.width) / float(extent.height));
+  const glm::vec4 style{scene.lineScale, 8.0f, 5.0f, 0.0f};
+  const gpu::SplatParams splat{viewProj, style, glm::uvec4(0u)};
+  if (mode_ == LineMode::Splat) splat_.recordSplat(commands, extent, splat);
 
   VkClearValue clears[2] = {};
   clears[0].color = {{0.012f, 0.010f, 0.018f, 1.0f}};
@@ -250,8 +184,8 @@ void LineRenderer::record(VkCommandBuffer commands, VkFramebuffer framebuffer, V
   vkCmdSetScissor(commands, 0, 1, &scissor);
 
   gpu::DrawParams params{};
-  params.viewProj = camera.viewProj(float(extent.width) / float(extent.height));
-  params.style = {scene.lineScale, 8.0f, 5.0f, 0.0f};
+  params.viewProj = viewProj;
+  params.style = style;
   params.crater = glm::vec4(scene.emitter, scene.emitterRadius);
   const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
   vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout_, 0, 1,
@@ -260,13 +194,17 @@ void LineRenderer::record(VkCommandBuffer commands, VkFramebuffer framebuffer, V
   vkCmdPushConstants(commands, pipelineLayout_, stages, 0, sizeof(params), &params);
   vkCmdDraw(commands, kGroundVertices, 1, 0, 0);
 
-  vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, linePipeline_);
-  for (const Chunk& chunk : chunks_) {
-    params.chunk = {chunk.first, 0u, 0u, 0u};
-    vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout_, 0, 1,
-                            &chunk.set, 0, nullptr);
-    vkCmdPushConstants(commands, pipelineLayout_, stages, 0, sizeof(params), &params);
-    vkCmdDraw(commands, 2 * chunk.count, 1, 0, 0);
+  if (mode_ == LineMode::Splat) {
+    splat_.recordResolve(commands, splat);
+  } else {
+    vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, linePipeline_);
+    for (const Chunk& chunk : chunks_) {
+      params.chunk = {chunk.first, 0u, 0u, 0u};
+      vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout_, 0, 1,
+                              &chunk.set, 0, nullptr);
+      vkCmdPushConstants(commands, pipelineLayout_, stages, 0, sizeof(params), &params);
+      vkCmdDraw(commands, 2 * chunk.count, 1, 0, 0);
+    }
   }
   if (overlay) overlay(commands);
   vkCmdEndRenderPass(commands);

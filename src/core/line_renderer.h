@@ -9,8 +9,12 @@
 #include "context.h"
 #include "gpu_simulator.h"
 #include "scene.h"
+#include "splat_pass.h"
 
 namespace lava {
+
+// How the lines reach the target: the graphics pipeline (the reference) or splat.comp.
+enum class LineMode { Pipeline, Splat };
 
 class LineRenderer {
  public:
@@ -24,11 +28,13 @@ class LineRenderer {
   VkRenderPass renderPass() const { return renderPass_; }
   // Points the line pipeline at `simulator`'s particle buffer (after a restart).
   void bind(const GpuSimulator& simulator);
+  void setMode(LineMode mode) { mode_ = mode; }
+  LineMode mode() const { return mode_; }
   // Records the barrier after step.comp, then the render pass into `framebuffer`;
   // `overlay` (e.g. the UI) records into the same pass after the lines.
   void record(VkCommandBuffer commands, VkFramebuffer framebuffer, VkExtent2D extent,
               const OrbitCamera& camera, const Scene& scene,
-              const std::function<void(VkCommandBuffer)>& overlay = {}) const;
+              const std::function<void(VkCommandBuffer)>& overlay = {});
 
  private:
   struct Chunk {
@@ -45,6 +51,11 @@ class LineRenderer {
   UniquePipeline linePipeline_;
   UniqueDescriptorPool descriptorPool_;
   std::vector<Chunk> chunks_;
+  SplatPass splat_;
+  LineMode mode_ = LineMode::Pipeline;
 };
+
+// Parses "lines" or "splat" for the flag named by `source` (UsageError otherwise).
+LineMode parseLineMode(const std::string& source, const std::string& text);
 
 }  // namespace lava

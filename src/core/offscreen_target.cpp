@@ -91,7 +91,7 @@ std::vector<uint8_t> OffscreenTarget::pixels() const {
   return out;
 }
 
-std::vector<uint8_t> renderOffscreen(const Context& context, const LineRenderer& renderer,
+std::vector<uint8_t> renderOffscreen(const Context& context, LineRenderer& renderer,
                                      const OffscreenTarget& target, const OrbitCamera& camera,
                                      const Scene& scene) {
   context.submitNow([&](VkCommandBuffer commands) {

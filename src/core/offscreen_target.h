@@ -43,7 +43,7 @@ struct OrbitCamera;
 struct Scene;
 
 // Renders the simulator's current particles into `target` and returns its pixels.
-std::vector<uint8_t> renderOffscreen(const Context& context, const LineRenderer& renderer,
+std::vector<uint8_t> renderOffscreen(const Context& context, LineRenderer& renderer,
                                      const OffscreenTarget& target, const OrbitCamera& camera,
                                      const Scene& scene);
 

@@ -151,6 +151,7 @@ class Demo {
         renderer_(context_, *simulator_, format_.format, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR),
         swapchain_(context_, surface_.handle, renderer_.renderPass(), format_, options.vsync) {
     if (!swapchain_.recreate(framebufferSize())) throw NoDisplay("the window has no area");
+    renderer_.setMode(options.lines);
     ui_ = std::make_unique<Ui>(context_, window_.handle, renderer_.renderPass(),
                                swapchain_.imageCount());
     createFrameSlots();
@@ -306,6 +307,9 @@ class Demo {
     ImGui::SameLine();
     if (ImGui::Button("screenshot [P]")) screenshot_ = true;
     ImGui::SliderFloat("speed", &speed_, 0.0f, 4.0f);
+    bool splat = renderer_.mode() == LineMode::Splat;
+    if (ImGui::Checkbox("compute line splatting (off: graphics pipeline)", &splat))
+      renderer_.setMode(splat ? LineMode::Splat : LineMode::Pipeline);
 
     Scene s = scene_;
     float rate = float(s.rate);
@@ -358,6 +362,7 @@ class Demo {
       VK_CHECK(vkDeviceWaitIdle(context_.device()));
       LineRenderer offscreen(context_, *simulator_, OffscreenTarget::kColorFormat,
                              VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+      offscreen.setMode(renderer_.mode());
       OffscreenTarget target(context_, offscreen.renderPass(), swapchain_.extent());
       char name[64];
       std::snprintf(name, sizeof(name), "lava-screenshot-%03u.png", screenshots_++);

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "line_renderer.h"
 #include "scene.h"
 
 namespace lava {
@@ -24,6 +25,7 @@ struct DemoOptions {
   uint32_t frames = 0;  // exit after this many presented frames; 0: until the window closes
   bool vsync = false;   // FIFO presentation; else mailbox or immediate when offered
   bool exercise = false;  // resize, minimise and restore the window on a schedule (tests)
+  LineMode lines = LineMode::Splat;  // the fast renderer; Pipeline is the reference
   std::optional<unsigned> device;
   bool validation = false;
 };

@@ -1,0 +1,163 @@
+#include "splat_pass.h"
+
+#include "pipeline.h"
+#include "resolve_frag.h"
+#include "resolve_vert.h"
+#include "splat_comp.h"
+#include "vk_check.h"
+
+namespace lava {
+namespace {
+
+UniqueDescriptorSetLayout createSetLayout(VkDevice device, uint32_t bindings,
+                                          VkShaderStageFlags stage) {
+  VkDescriptorSetLayoutBinding b[2] = {};
+  for (uint32_t i = 0; i < bindings; ++i) {
+    b[i].binding = i;
+    b[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    b[i].descriptorCount = 1;
+    b[i].stageFlags = stage;
+  }
+  VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  info.bindingCount = bindings;
+  info.pBindings = b;
+  VkDescriptorSetLayout layout = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateDescriptorSetLayout(device, &info, nullptr, &layout));
+  return UniqueDescriptorSetLayout(device, layout);
+}
+
+UniquePipelineLayout createLayout(VkDevice device, VkDescriptorSetLayout set,
+                                  VkShaderStageFlags stage) {
+  VkPushConstantRange push{stage, 0, sizeof(gpu::SplatParams)};
+  VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  info.setLayoutCount = 1;
+  info.pSetLayouts = &set;
+  info.pushConstantRangeCount = 1;
+  info.pPushConstantRanges = &push;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VK_CHECK(vkCreatePipelineLayout(device, &info, nullptr, &layout));
+  return UniquePipelineLayout(device, layout);
+}
+
+void barrier(VkCommandBuffer commands, VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
+             VkPipelineStageFlags dstStage, VkAccessFlags dstAccess) {
+  VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  memory.srcAccessMask = srcAccess;
+  memory.dstAccessMask = dstAccess;
+  vkCmdPipelineBarrier(commands, srcStage, dstStage, 0, 1, &memory, 0, nullptr, 0, nullptr);
+}
+
+}  // namespace
+
+SplatPass::SplatPass(Context& context, VkRenderPass renderPass, const GpuSimulator& simulator)
+    : context_(context) {
+  VkDevice device = context.device();
+  splatSetLayout_ = createSetLayout(device, 2, VK_SHADER_STAGE_COMPUTE_BIT);
+  resolveSetLayout_ = createSetLayout(device, 1, VK_SHADER_STAGE_FRAGMENT_BIT);
+  splatLayout_ = createLayout(device, splatSetLayout_, VK_SHADER_STAGE_COMPUTE_BIT);
+  resolveLayout_ = createLayout(device, resolveSetLayout_, VK_SHADER_STAGE_FRAGMENT_BIT);
+  splatPipeline_ = createComputePipeline(device, splatLayout_, kSplatCompSpv, sizeof(kSplatCompSpv),
+                                         gpu::kWorkgroupSize);
+  GraphicsPipelineDesc resolve{kResolveVertSpv, sizeof(kResolveVertSpv), kResolveFragSpv,
+                               sizeof(kResolveFragSpv)};
+  resolve.additive = true;
+  resolve.depthTest = false;
+  resolve.depthWrite = false;
+  resolvePipeline_ = createGraphicsPipeline(device, resolveLayout_, renderPass, resolve);
+  bind(simulator);
+}
+
+void SplatPass::bind(const GpuSimulator& simulator) {
+  particles_ = simulator.particleBuffer();
+  ranges_ = simulator.chunkRanges();
+  if (extent_.width != 0) writeSets();
+}
+
+void SplatPass::resize(VkExtent2D extent) {
+  if (extent.width == extent_.width && extent.height == extent_.height) return;
+  VK_CHECK(vkDeviceWaitIdle(context_.device()));  // the old buffer may still be read
+  extent_ = extent;
+  accumulation_ = Buffer(context_, VkDeviceSize{extent.width} * extent.height * sizeof(uint32_t),
+                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                         VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  writeSets();
+}
+
+void SplatPass::writeSets() {
+  VkDevice device = context_.device();
+  const uint32_t chunks = static_cast<uint32_t>(ranges_.size());
+  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * chunks + 1};
+  VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  poolInfo.maxSets = chunks + 1;
+  poolInfo.poolSizeCount = 1;
+  poolInfo.pPoolSizes = &size;
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool));
+  pool_ = UniqueDescriptorPool(device, pool);
+
+  auto allocate = [&](VkDescriptorSetLayout layout) {
+    VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    alloc.descriptorPool = pool;
+    alloc.descriptorSetCount = 1;
+    alloc.pSetLayouts = &layout;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    VK_CHECK(vkAllocateDescriptorSets(device, &alloc, &set));
+    return set;
+  };
+  auto write = [&](VkDescriptorSet set, uint32_t binding, VkDescriptorBufferInfo range) {
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstSet = set;
+    w.dstBinding = binding;
+    w.descriptorCount = 1;
+    w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    w.pBufferInfo = &range;
+    vkUpdateDescriptorSets(device, 1, &w, 0, nullptr);
+  };
+  const VkDescriptorBufferInfo accumulation{accumulation_.get(), 0, VK_WHOLE_SIZE};
+  splatSets_.clear();
+  for (const auto& [first, count] : ranges_) {
+    VkDescriptorSet set = allocate(splatSetLayout_);
+    write(set, 0, {particles_, first * sizeof(Particle), count * sizeof(Particle)});
+    write(set, 1, accumulation);
+    splatSets_.push_back(set);
+  }
+  resolveSet_ = allocate(resolveSetLayout_);
+  write(resolveSet_, 0, accumulation);
+}
+
+void SplatPass::recordSplat(VkCommandBuffer commands, VkExtent2D extent, gpu::SplatParams params) {
+  resize(extent);
+  // WAR: the previous frame's resolve.frag read the sums this fill clears.
+  barrier(commands, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT, 0);
+  vkCmdFillBuffer(commands, accumulation_.get(), 0, VK_WHOLE_SIZE, 0);
+  // RAW/WAW: splat.comp adds atomically into the cleared sums.
+  barrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, splatPipeline_);
+  params.target.x = extent.width;
+  params.target.y = extent.height;
+  for (size_t c = 0; c < ranges_.size(); ++c) {
+    params.target.z = ranges_[c].second;
+    vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_COMPUTE, splatLayout_, 0, 1,
+                            &splatSets_[c], 0, nullptr);
+    vkCmdPushConstants(commands, splatLayout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
+                       &params);
+    vkCmdDispatch(commands, (ranges_[c].second + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1, 1);
+  }
+  // RAW: resolve.frag reads the sums splat.comp wrote.
+  barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+          VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+}
+
+void SplatPass::recordResolve(VkCommandBuffer commands, const gpu::SplatParams& params) const {
+  vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, resolvePipeline_);
+  vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, resolveLayout_, 0, 1,
+                          &resolveSet_, 0, nullptr);
+  gpu::SplatParams p = params;
+  p.target.x = extent_.width;
+  p.target.y = extent_.height;
+  vkCmdPushConstants(commands, resolveLayout_, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(p), &p);
+  vkCmdDraw(commands, 3, 1, 0, 0);
+}
+
+}  // namespace lava
