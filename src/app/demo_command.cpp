@@ -27,9 +27,14 @@ class DemoCommand final : public Command {
                    demo_.frames = static_cast<uint32_t>(parseInteger(src, t, 1, 10000000));
                  });
     options_.add("renderer", Kind::Text,
-                 "splat (compute, fast) or lines (the graphics pipeline, the reference) [splat]",
+                 "splat (compute) or lines (the graphics pipeline, the reference) "
+                 "[splat from 16384 particles, else lines]",
                  [this](const std::string& src, const std::string& t) {
                    demo_.lines = parseLineMode(src, t);
+                 });
+    options_.add("warmup", Kind::Number, "seconds simulated before the first frame, 0..600 [0]",
+                 [this](const std::string& src, const std::string& t) {
+                   demo_.warmup = parseNumber(src, t, 0, 600);
                  });
     command_->add_flag("--headless", headless_, "render PNG frames offscreen instead of a window");
     command_->add_flag("--vsync", demo_.vsync, "present with FIFO (vsync); default: fastest mode");
@@ -59,7 +64,9 @@ class DemoCommand final : public Command {
     plan.frames = demo_.frames ? demo_.frames : 90;
     plan.size = demo_.size;
     plan.folder = outputFolder("--out", out_);
-    plan.lines = demo_.lines;
+    plan.lines = demo_.lines.value_or(demo_.scene.particles >= kSplatFrom ? LineMode::Splat
+                                                                          : LineMode::Pipeline);
+    plan.warmup = demo_.warmup;
     Context context(contextOptions(demo_.device));
     renderFrames(context, demo_.scene, plan);
     std::printf("demo: wrote %u headless frames (%ux%u) to %s/frame_*.png\n", plan.frames,
