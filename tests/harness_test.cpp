@@ -2,6 +2,7 @@
 // "validation-clean" claims of every other test would mean nothing.
 #include <gtest/gtest.h>
 
+#include "descriptors.h"
 #include "roofline.h"
 #include "shared.h"
 #include "vulkan_test.h"
@@ -26,12 +27,8 @@ std::vector<std::string> copyTwice(Context& context, bool withBarrier) {
     first.record(commands);
     if (withBarrier) {
       // RAW: the first copy writes b, the second reads it.
-      VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-      memory.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-      memory.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-      vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &memory, 0, nullptr, 0,
-                           nullptr);
+      memoryBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
     }
     second.record(commands);
   });

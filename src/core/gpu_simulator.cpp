@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "descriptors.h"
 #include "pipeline.h"
 #include "step_comp.h"
 #include "vk_check.h"
@@ -13,14 +14,6 @@ namespace lava {
 namespace {
 
 constexpr VkDeviceSize kParticleBytes = sizeof(Particle);
-
-void barrier(VkCommandBuffer commands, VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
-             VkPipelineStageFlags dstStage, VkAccessFlags dstAccess) {
-  VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-  memory.srcAccessMask = srcAccess;
-  memory.dstAccessMask = dstAccess;
-  vkCmdPipelineBarrier(commands, srcStage, dstStage, 0, 1, &memory, 0, nullptr, 0, nullptr);
-}
 
 }  // namespace
 
@@ -57,63 +50,22 @@ GpuSimulator::GpuSimulator(Context& context, const Scene& scene)
   planned_.resize(kStepsPerSubmit + 1);
 
   VkDevice device = context.device();
-  VkDescriptorSetLayoutBinding bindings[2] = {};
-  for (uint32_t b : {gpu::kParticleBinding, gpu::kScheduleBinding}) {
-    bindings[b].binding = b;
-    bindings[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    bindings[b].descriptorCount = 1;
-    bindings[b].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
-  }
-  VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  setInfo.bindingCount = 2;
-  setInfo.pBindings = bindings;
-  VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &setLayout));
-  setLayout_ = UniqueDescriptorSetLayout(device, setLayout);
-
-  VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(gpu::StepParams)};
-  VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  layoutInfo.setLayoutCount = 1;
-  layoutInfo.pSetLayouts = &setLayout;
-  layoutInfo.pushConstantRangeCount = 1;
-  layoutInfo.pPushConstantRanges = &push;
-  VkPipelineLayout pipelineLayout = VK_NULL_HANDLE;
-  VK_CHECK(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &pipelineLayout));
-  pipelineLayout_ = UniquePipelineLayout(device, pipelineLayout);
-  pipeline_ = createComputePipeline(device, pipelineLayout, kStepCompSpv, sizeof(kStepCompSpv),
+  setLayout_ = createStorageSetLayout(device, 2, VK_SHADER_STAGE_COMPUTE_BIT);
+  pipelineLayout_ = createPipelineLayout(device, setLayout_, VK_SHADER_STAGE_COMPUTE_BIT,
+                                         sizeof(gpu::StepParams));
+  pipeline_ = createComputePipeline(device, pipelineLayout_, kStepCompSpv, sizeof(kStepCompSpv),
                                     gpu::kWorkgroupSize);
 
   const uint32_t perChunk = particlesPerChunk(context);
   for (uint32_t first = 0; first < scene.particles; first += perChunk)
     chunks_.push_back({first, std::min(perChunk, scene.particles - first), VK_NULL_HANDLE});
   const uint32_t chunkCount = static_cast<uint32_t>(chunks_.size());
-  VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * chunkCount};
-  VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-  poolInfo.maxSets = chunkCount;
-  poolInfo.poolSizeCount = 1;
-  poolInfo.pPoolSizes = &poolSize;
-  VkDescriptorPool pool = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool));
-  descriptorPool_ = UniqueDescriptorPool(device, pool);
+  descriptorPool_ = createStoragePool(device, chunkCount, 2 * chunkCount);
   for (Chunk& chunk : chunks_) {
-    VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    alloc.descriptorPool = pool;
-    alloc.descriptorSetCount = 1;
-    alloc.pSetLayouts = &setLayout;
-    VK_CHECK(vkAllocateDescriptorSets(device, &alloc, &chunk.set));
-    VkDescriptorBufferInfo particleRange{particles_.get(), chunk.first * kParticleBytes,
-                                         chunk.count * kParticleBytes};
-    VkDescriptorBufferInfo scheduleRange{schedule_.get(), 0, VK_WHOLE_SIZE};
-    VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
-                                      {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
-    writes[0].dstSet = writes[1].dstSet = chunk.set;
-    writes[0].dstBinding = gpu::kParticleBinding;
-    writes[1].dstBinding = gpu::kScheduleBinding;
-    writes[0].descriptorCount = writes[1].descriptorCount = 1;
-    writes[0].descriptorType = writes[1].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    writes[0].pBufferInfo = &particleRange;
-    writes[1].pBufferInfo = &scheduleRange;
-    vkUpdateDescriptorSets(device, 2, writes, 0, nullptr);
+    chunk.set = allocateSet(device, descriptorPool_, setLayout_);
+    writeStorage(device, chunk.set, gpu::kParticleBinding,
+                 {particles_.get(), chunk.first * kParticleBytes, chunk.count * kParticleBytes});
+    writeStorage(device, chunk.set, gpu::kScheduleBinding, {schedule_.get(), 0, VK_WHOLE_SIZE});
   }
   load(initialState(scene));
 }
@@ -123,7 +75,7 @@ void GpuSimulator::load(const SimState& state) {
   clock_ = state.clock;
   context_.submitNow([&](VkCommandBuffer commands) {
     // WAW/WAR: earlier dispatches wrote, and a download read, the particles overwritten here.
-    barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+    memoryBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
             VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
             VK_ACCESS_TRANSFER_WRITE_BIT);
     VkBufferCopy region{0, 0, staging_.size()};
@@ -134,13 +86,13 @@ void GpuSimulator::load(const SimState& state) {
 SimState GpuSimulator::state() {
   context_.submitNow([&](VkCommandBuffer commands) {
     // RAW: step.comp wrote the particles this copy reads.
-    barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+    memoryBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
             VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
             VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
     VkBufferCopy region{0, 0, staging_.size()};
     vkCmdCopyBuffer(commands, particles_.get(), staging_.get(), 1, &region);
     // RAW: the host reads what the copy wrote into staging.
-    barrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+    memoryBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
             VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
   });
   SimState out;
@@ -183,7 +135,7 @@ void GpuSimulator::recordSteps(VkCommandBuffer commands, uint32_t first, uint32_
       ++steps;
     // RAW/WAW: the previous dispatch or upload wrote the particles this one reads and writes;
     // WAR: lines.vert of the last frame read them.
-    barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+    memoryBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
                           VK_PIPELINE_STAGE_VERTEX_SHADER_BIT,
             VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,

@@ -1,5 +1,6 @@
 #include "line_renderer.h"
 
+#include "descriptors.h"
 #include "ground_frag.h"
 #include "ground_vert.h"
 #include "lines_frag.h"
@@ -81,38 +82,20 @@ LineRenderer::LineRenderer(Context& context, const GpuSimulator& simulator, VkFo
       splat_(context, renderPass_, simulator) {
   VkDevice device = context.device();
 
-  VkDescriptorSetLayoutBinding binding{};
-  binding.binding = gpu::kParticleBinding;
-  binding.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-  binding.descriptorCount = 1;
-  binding.stageFlags = VK_SHADER_STAGE_VERTEX_BIT;
-  VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  setInfo.bindingCount = 1;
-  setInfo.pBindings = &binding;
-  VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &setLayout));
-  setLayout_ = UniqueDescriptorSetLayout(device, setLayout);
-
-  VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                           sizeof(gpu::DrawParams)};
-  VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  layoutInfo.setLayoutCount = 1;
-  layoutInfo.pSetLayouts = &setLayout;
-  layoutInfo.pushConstantRangeCount = 1;
-  layoutInfo.pPushConstantRanges = &push;
-  VkPipelineLayout pipelineLayout = VK_NULL_HANDLE;
-  VK_CHECK(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &pipelineLayout));
-  pipelineLayout_ = UniquePipelineLayout(device, pipelineLayout);
+  setLayout_ = createStorageSetLayout(device, 1, VK_SHADER_STAGE_VERTEX_BIT);
+  pipelineLayout_ = createPipelineLayout(device, setLayout_,
+                                         VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT,
+                                         sizeof(gpu::DrawParams));
 
   GraphicsPipelineDesc ground{kGroundVertSpv, sizeof(kGroundVertSpv), kGroundFragSpv,
                               sizeof(kGroundFragSpv)};
-  groundPipeline_ = createGraphicsPipeline(device, pipelineLayout, renderPass_, ground);
+  groundPipeline_ = createGraphicsPipeline(device, pipelineLayout_, renderPass_, ground);
   GraphicsPipelineDesc lines{kLinesVertSpv, sizeof(kLinesVertSpv), kLinesFragSpv,
                              sizeof(kLinesFragSpv)};
   lines.topology = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
   lines.additive = true;
   lines.depthWrite = false;  // glowing lines do not occlude
-  linePipeline_ = createGraphicsPipeline(device, pipelineLayout, renderPass_, lines);
+  linePipeline_ = createGraphicsPipeline(device, pipelineLayout_, renderPass_, lines);
 
   bind(simulator);
 }
@@ -120,36 +103,15 @@ LineRenderer::LineRenderer(Context& context, const GpuSimulator& simulator, VkFo
 void LineRenderer::bind(const GpuSimulator& simulator) {
   splat_.bind(simulator);
   VkDevice device = context_.device();
-  VkDescriptorSetLayout setLayout = setLayout_;
   chunks_.clear();
-  descriptorPool_.reset();
   const auto ranges = simulator.chunkRanges();
-  VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                                static_cast<uint32_t>(ranges.size())};
-  VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-  poolInfo.maxSets = static_cast<uint32_t>(ranges.size());
-  poolInfo.poolSizeCount = 1;
-  poolInfo.pPoolSizes = &poolSize;
-  VkDescriptorPool pool = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool));
-  descriptorPool_ = UniqueDescriptorPool(device, pool);
-  for (const auto& [first, count] : ranges) {
-    Chunk chunk{first, count, VK_NULL_HANDLE};
-    VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    alloc.descriptorPool = pool;
-    alloc.descriptorSetCount = 1;
-    alloc.pSetLayouts = &setLayout;
-    VK_CHECK(vkAllocateDescriptorSets(device, &alloc, &chunk.set));
-    VkDescriptorBufferInfo range{simulator.particleBuffer(), first * sizeof(Particle),
-                                 count * sizeof(Particle)};
-    VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    write.dstSet = chunk.set;
-    write.dstBinding = gpu::kParticleBinding;
-    write.descriptorCount = 1;
-    write.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    write.pBufferInfo = &range;
-    vkUpdateDescriptorSets(device, 1, &write, 0, nullptr);
-    chunks_.push_back(chunk);
+  const uint32_t count = static_cast<uint32_t>(ranges.size());
+  descriptorPool_ = createStoragePool(device, count, count);
+  for (const auto& [first, particles] : ranges) {
+    const VkDescriptorSet set = allocateSet(device, descriptorPool_, setLayout_);
+    writeStorage(device, set, gpu::kParticleBinding,
+                 {simulator.particleBuffer(), first * sizeof(Particle), particles * sizeof(Particle)});
+    chunks_.push_back({first, particles, set});
   }
 }
 
@@ -157,12 +119,9 @@ void LineRenderer::record(VkCommandBuffer commands, VkFramebuffer framebuffer, V
                           const OrbitCamera& camera, const Scene& scene,
                           const std::function<void(VkCommandBuffer)>& overlay) {
   // RAW: step.comp writes particles, lines.vert (or splat.comp) reads them.
-  VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-  memory.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-  memory.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-  vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                       VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                       0, 1, &memory, 0, nullptr, 0, nullptr);
+  memoryBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                VK_ACCESS_SHADER_READ_BIT);
   const glm::mat4 viewProj = camera.viewProj(float(extent.width) / float(extent.height));
   const glm::vec4 style{scene.lineScale, 8.0f, 5.0f, 0.0f};
   const gpu::SplatParams splat{viewProj, style, glm::uvec4(0u)};

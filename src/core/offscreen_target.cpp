@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "descriptors.h"
 #include "line_renderer.h"
 #include "vk_check.h"
 
@@ -36,15 +37,20 @@ ImageWithMemory createImage(const Context& context, VkExtent2D extent, VkFormat 
   out.memory = UniqueMemory(device, memory);
   VK_CHECK(vkBindImageMemory(device, image, memory, 0));
 
-  VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-  viewInfo.image = image;
-  viewInfo.viewType = VK_IMAGE_VIEW_TYPE_2D;
-  viewInfo.format = format;
-  viewInfo.subresourceRange = {aspect, 0, 1, 0, 1};
-  VkImageView view = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateImageView(device, &viewInfo, nullptr, &view));
-  out.view = UniqueImageView(device, view);
+  out.view = createImageView(device, image, format, aspect);
   return out;
+}
+
+UniqueImageView createImageView(VkDevice device, VkImage image, VkFormat format,
+                                VkImageAspectFlags aspect) {
+  VkImageViewCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  info.image = image;
+  info.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  info.format = format;
+  info.subresourceRange = {aspect, 0, 1, 0, 1};
+  VkImageView view = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateImageView(device, &info, nullptr, &view));
+  return UniqueImageView(device, view);
 }
 
 OffscreenTarget::OffscreenTarget(const Context& context, VkRenderPass renderPass,
@@ -78,11 +84,8 @@ void OffscreenTarget::recordReadback(VkCommandBuffer commands) const {
   vkCmdCopyImageToBuffer(commands, color_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                          readback_.get(), 1, &region);
   // RAW: the host reads what the copy wrote.
-  VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-  memory.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-  memory.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-  vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
-                       &memory, 0, nullptr, 0, nullptr);
+  memoryBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
 }
 
 std::vector<uint8_t> OffscreenTarget::pixels() const {

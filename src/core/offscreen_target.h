@@ -15,6 +15,9 @@ struct ImageWithMemory {
   UniqueImageView view;
 };
 
+UniqueImageView createImageView(VkDevice device, VkImage image, VkFormat format,
+                                VkImageAspectFlags aspect);
+// A 2D image in device-local memory with a view of `aspect`.
 ImageWithMemory createImage(const Context& context, VkExtent2D extent, VkFormat format,
                             VkImageUsageFlags usage, VkImageAspectFlags aspect);
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "copy_comp.h"
+#include "descriptors.h"
 #include "gpu_simulator.h"
 #include "pipeline.h"
 #include "timestamps.h"
@@ -25,62 +26,20 @@ double median(std::vector<double> values) {
 CopyKernel::CopyKernel(const Context& context, const Buffer& source, const Buffer& destination,
                        uint32_t particles) {
   VkDevice device = context.device();
-  VkDescriptorSetLayoutBinding bindings[2] = {};
-  for (uint32_t b = 0; b < 2; ++b) {
-    bindings[b].binding = b;
-    bindings[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    bindings[b].descriptorCount = 1;
-    bindings[b].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
-  }
-  VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  setInfo.bindingCount = 2;
-  setInfo.pBindings = bindings;
-  VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &setLayout));
-  setLayout_ = UniqueDescriptorSetLayout(device, setLayout);
-  VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(glm::uvec4)};
-  VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  layoutInfo.setLayoutCount = 1;
-  layoutInfo.pSetLayouts = &setLayout;
-  layoutInfo.pushConstantRangeCount = 1;
-  layoutInfo.pPushConstantRanges = &push;
-  VkPipelineLayout layout = VK_NULL_HANDLE;
-  VK_CHECK(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &layout));
-  layout_ = UniquePipelineLayout(device, layout);
+  setLayout_ = createStorageSetLayout(device, 2, VK_SHADER_STAGE_COMPUTE_BIT);
+  layout_ = createPipelineLayout(device, setLayout_, VK_SHADER_STAGE_COMPUTE_BIT, sizeof(glm::uvec4));
   pipeline_ =
-      createComputePipeline(device, layout, kCopyCompSpv, sizeof(kCopyCompSpv), gpu::kWorkgroupSize);
+      createComputePipeline(device, layout_, kCopyCompSpv, sizeof(kCopyCompSpv), gpu::kWorkgroupSize);
 
   const uint32_t perChunk = particlesPerChunk(context);
   const uint32_t chunks = (particles + perChunk - 1) / perChunk;
-  VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * chunks};
-  VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-  poolInfo.maxSets = chunks;
-  poolInfo.poolSizeCount = 1;
-  poolInfo.pPoolSizes = &poolSize;
-  VkDescriptorPool pool = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool));
-  pool_ = UniqueDescriptorPool(device, pool);
+  pool_ = createStoragePool(device, chunks, 2 * chunks);
   for (uint32_t first = 0; first < particles; first += perChunk) {
     const uint32_t count = std::min(perChunk, particles - first);
-    VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    alloc.descriptorPool = pool;
-    alloc.descriptorSetCount = 1;
-    alloc.pSetLayouts = &setLayout;
-    VkDescriptorSet set = VK_NULL_HANDLE;
-    VK_CHECK(vkAllocateDescriptorSets(device, &alloc, &set));
-    VkDescriptorBufferInfo ranges[2] = {
-        {source.get(), first * sizeof(Particle), count * sizeof(Particle)},
-        {destination.get(), first * sizeof(Particle), count * sizeof(Particle)}};
-    VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
-                                      {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
-    for (uint32_t b = 0; b < 2; ++b) {
-      writes[b].dstSet = set;
-      writes[b].dstBinding = b;
-      writes[b].descriptorCount = 1;
-      writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-      writes[b].pBufferInfo = &ranges[b];
-    }
-    vkUpdateDescriptorSets(device, 2, writes, 0, nullptr);
+    const VkDescriptorSet set = allocateSet(device, pool_, setLayout_);
+    writeStorage(device, set, 0, {source.get(), first * sizeof(Particle), count * sizeof(Particle)});
+    writeStorage(device, set, 1,
+                 {destination.get(), first * sizeof(Particle), count * sizeof(Particle)});
     sets_.emplace_back(set, count);
   }
 }
@@ -107,12 +66,8 @@ double gpuCopySeconds(Context& context, uint32_t particles, int passes) {
   for (int pass = -1; pass < passes; ++pass) {  // pass -1 warms up
     context.submitNow([&](VkCommandBuffer commands) {
       // WAW: the previous pass wrote the destination this one overwrites.
-      VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-      memory.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-      memory.dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-      vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &memory, 0, nullptr, 0,
-                           nullptr);
+      memoryBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT);
       timer.recordStart(commands);
       copy.record(commands);
       timer.recordEnd(commands);

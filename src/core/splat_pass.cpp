@@ -1,5 +1,6 @@
 #include "splat_pass.h"
 
+#include "descriptors.h"
 #include "pipeline.h"
 #include "resolve_frag.h"
 #include "resolve_vert.h"
@@ -7,55 +8,16 @@
 #include "vk_check.h"
 
 namespace lava {
-namespace {
-
-UniqueDescriptorSetLayout createSetLayout(VkDevice device, uint32_t bindings,
-                                          VkShaderStageFlags stage) {
-  VkDescriptorSetLayoutBinding b[2] = {};
-  for (uint32_t i = 0; i < bindings; ++i) {
-    b[i].binding = i;
-    b[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    b[i].descriptorCount = 1;
-    b[i].stageFlags = stage;
-  }
-  VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  info.bindingCount = bindings;
-  info.pBindings = b;
-  VkDescriptorSetLayout layout = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateDescriptorSetLayout(device, &info, nullptr, &layout));
-  return UniqueDescriptorSetLayout(device, layout);
-}
-
-UniquePipelineLayout createLayout(VkDevice device, VkDescriptorSetLayout set,
-                                  VkShaderStageFlags stage) {
-  VkPushConstantRange push{stage, 0, sizeof(gpu::SplatParams)};
-  VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  info.setLayoutCount = 1;
-  info.pSetLayouts = &set;
-  info.pushConstantRangeCount = 1;
-  info.pPushConstantRanges = &push;
-  VkPipelineLayout layout = VK_NULL_HANDLE;
-  VK_CHECK(vkCreatePipelineLayout(device, &info, nullptr, &layout));
-  return UniquePipelineLayout(device, layout);
-}
-
-void barrier(VkCommandBuffer commands, VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
-             VkPipelineStageFlags dstStage, VkAccessFlags dstAccess) {
-  VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-  memory.srcAccessMask = srcAccess;
-  memory.dstAccessMask = dstAccess;
-  vkCmdPipelineBarrier(commands, srcStage, dstStage, 0, 1, &memory, 0, nullptr, 0, nullptr);
-}
-
-}  // namespace
 
 SplatPass::SplatPass(Context& context, VkRenderPass renderPass, const GpuSimulator& simulator)
     : context_(context) {
   VkDevice device = context.device();
-  splatSetLayout_ = createSetLayout(device, 2, VK_SHADER_STAGE_COMPUTE_BIT);
-  resolveSetLayout_ = createSetLayout(device, 1, VK_SHADER_STAGE_FRAGMENT_BIT);
-  splatLayout_ = createLayout(device, splatSetLayout_, VK_SHADER_STAGE_COMPUTE_BIT);
-  resolveLayout_ = createLayout(device, resolveSetLayout_, VK_SHADER_STAGE_FRAGMENT_BIT);
+  splatSetLayout_ = createStorageSetLayout(device, 2, VK_SHADER_STAGE_COMPUTE_BIT);
+  resolveSetLayout_ = createStorageSetLayout(device, 1, VK_SHADER_STAGE_FRAGMENT_BIT);
+  splatLayout_ = createPipelineLayout(device, splatSetLayout_, VK_SHADER_STAGE_COMPUTE_BIT,
+                                      sizeof(gpu::SplatParams));
+  resolveLayout_ = createPipelineLayout(device, resolveSetLayout_, VK_SHADER_STAGE_FRAGMENT_BIT,
+                                        sizeof(gpu::SplatParams));
   splatPipeline_ = createComputePipeline(device, splatLayout_, kSplatCompSpv, sizeof(kSplatCompSpv),
                                          gpu::kWorkgroupSize);
   GraphicsPipelineDesc resolve{kResolveVertSpv, sizeof(kResolveVertSpv), kResolveFragSpv,
@@ -86,52 +48,26 @@ void SplatPass::resize(VkExtent2D extent) {
 void SplatPass::writeSets() {
   VkDevice device = context_.device();
   const uint32_t chunks = static_cast<uint32_t>(ranges_.size());
-  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * chunks + 1};
-  VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-  poolInfo.maxSets = chunks + 1;
-  poolInfo.poolSizeCount = 1;
-  poolInfo.pPoolSizes = &size;
-  VkDescriptorPool pool = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool));
-  pool_ = UniqueDescriptorPool(device, pool);
-
-  auto allocate = [&](VkDescriptorSetLayout layout) {
-    VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    alloc.descriptorPool = pool;
-    alloc.descriptorSetCount = 1;
-    alloc.pSetLayouts = &layout;
-    VkDescriptorSet set = VK_NULL_HANDLE;
-    VK_CHECK(vkAllocateDescriptorSets(device, &alloc, &set));
-    return set;
-  };
-  auto write = [&](VkDescriptorSet set, uint32_t binding, VkDescriptorBufferInfo range) {
-    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    w.dstSet = set;
-    w.dstBinding = binding;
-    w.descriptorCount = 1;
-    w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    w.pBufferInfo = &range;
-    vkUpdateDescriptorSets(device, 1, &w, 0, nullptr);
-  };
+  pool_ = createStoragePool(device, chunks + 1, 2 * chunks + 1);
   const VkDescriptorBufferInfo accumulation{accumulation_.get(), 0, VK_WHOLE_SIZE};
   splatSets_.clear();
   for (const auto& [first, count] : ranges_) {
-    VkDescriptorSet set = allocate(splatSetLayout_);
-    write(set, 0, {particles_, first * sizeof(Particle), count * sizeof(Particle)});
-    write(set, 1, accumulation);
+    const VkDescriptorSet set = allocateSet(device, pool_, splatSetLayout_);
+    writeStorage(device, set, 0, {particles_, first * sizeof(Particle), count * sizeof(Particle)});
+    writeStorage(device, set, 1, accumulation);
     splatSets_.push_back(set);
   }
-  resolveSet_ = allocate(resolveSetLayout_);
-  write(resolveSet_, 0, accumulation);
+  resolveSet_ = allocateSet(device, pool_, resolveSetLayout_);
+  writeStorage(device, resolveSet_, 0, accumulation);
 }
 
 void SplatPass::recordSplat(VkCommandBuffer commands, VkExtent2D extent, gpu::SplatParams params) {
   resize(extent);
   // WAR: the previous frame's resolve.frag read the sums this fill clears.
-  barrier(commands, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT, 0);
+  memoryBarrier(commands, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT, 0);
   vkCmdFillBuffer(commands, accumulation_.get(), 0, VK_WHOLE_SIZE, 0);
   // RAW/WAW: splat.comp adds atomically into the cleared sums.
-  barrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+  memoryBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
   vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, splatPipeline_);
   params.target.x = extent.width;
@@ -145,7 +81,7 @@ void SplatPass::recordSplat(VkCommandBuffer commands, VkExtent2D extent, gpu::Sp
     vkCmdDispatch(commands, (ranges_[c].second + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1, 1);
   }
   // RAW: resolve.frag reads the sums splat.comp wrote.
-  barrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+  memoryBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
           VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
 }
 

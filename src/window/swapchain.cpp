@@ -110,14 +110,8 @@ bool Swapchain::recreate(VkExtent2D framebufferSize) {
   depth_ = createImage(context_, extent, LineRenderer::kDepthFormat,
                        VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
   for (VkImage image : images_) {
-    VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    viewInfo.image = image;
-    viewInfo.viewType = VK_IMAGE_VIEW_TYPE_2D;
-    viewInfo.format = format_.format;
-    viewInfo.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    VkImageView view = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateImageView(device, &viewInfo, nullptr, &view));
-    views_.emplace_back(device, view);
+    views_.push_back(createImageView(device, image, format_.format, VK_IMAGE_ASPECT_COLOR_BIT));
+    const VkImageView view = views_.back();
 
     VkImageView attachments[2] = {view, depth_.view};
     VkFramebufferCreateInfo fbInfo{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};

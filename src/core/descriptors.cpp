@@ -1,0 +1,75 @@
+#include "descriptors.h"
+
+#include <vector>
+
+#include "vk_check.h"
+
+namespace lava {
+
+UniqueDescriptorSetLayout createStorageSetLayout(VkDevice device, uint32_t count,
+                                                 VkShaderStageFlags stages) {
+  std::vector<VkDescriptorSetLayoutBinding> bindings(count);
+  for (uint32_t b = 0; b < count; ++b)
+    bindings[b] = {b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages, nullptr};
+  VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  info.bindingCount = count;
+  info.pBindings = bindings.data();
+  VkDescriptorSetLayout layout = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateDescriptorSetLayout(device, &info, nullptr, &layout));
+  return UniqueDescriptorSetLayout(device, layout);
+}
+
+UniquePipelineLayout createPipelineLayout(VkDevice device, VkDescriptorSetLayout set,
+                                          VkShaderStageFlags pushStages, uint32_t pushBytes) {
+  VkPushConstantRange push{pushStages, 0, pushBytes};
+  VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  info.setLayoutCount = 1;
+  info.pSetLayouts = &set;
+  info.pushConstantRangeCount = 1;
+  info.pPushConstantRanges = &push;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VK_CHECK(vkCreatePipelineLayout(device, &info, nullptr, &layout));
+  return UniquePipelineLayout(device, layout);
+}
+
+UniqueDescriptorPool createStoragePool(VkDevice device, uint32_t sets, uint32_t descriptors) {
+  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, descriptors};
+  VkDescriptorPoolCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  info.maxSets = sets;
+  info.poolSizeCount = 1;
+  info.pPoolSizes = &size;
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateDescriptorPool(device, &info, nullptr, &pool));
+  return UniqueDescriptorPool(device, pool);
+}
+
+VkDescriptorSet allocateSet(VkDevice device, VkDescriptorPool pool, VkDescriptorSetLayout layout) {
+  VkDescriptorSetAllocateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  info.descriptorPool = pool;
+  info.descriptorSetCount = 1;
+  info.pSetLayouts = &layout;
+  VkDescriptorSet set = VK_NULL_HANDLE;
+  VK_CHECK(vkAllocateDescriptorSets(device, &info, &set));
+  return set;
+}
+
+void writeStorage(VkDevice device, VkDescriptorSet set, uint32_t binding,
+                  const VkDescriptorBufferInfo& range) {
+  VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  write.dstSet = set;
+  write.dstBinding = binding;
+  write.descriptorCount = 1;
+  write.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  write.pBufferInfo = &range;
+  vkUpdateDescriptorSets(device, 1, &write, 0, nullptr);
+}
+
+void memoryBarrier(VkCommandBuffer commands, VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
+                   VkPipelineStageFlags dstStage, VkAccessFlags dstAccess) {
+  VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  memory.srcAccessMask = srcAccess;
+  memory.dstAccessMask = dstAccess;
+  vkCmdPipelineBarrier(commands, srcStage, dstStage, 0, 1, &memory, 0, nullptr, 0, nullptr);
+}
+
+}  // namespace lava
