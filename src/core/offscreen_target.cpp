@@ -64,7 +64,12 @@ OffscreenTarget::OffscreenTarget(const Context& context, VkRenderPass renderPass
       readback_(context, VkDeviceSize{extent.width} * extent.height * 4,
                 VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                 VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT) {
-  VkImageView views[2] = {color_.view, depth_.view};
+  framebuffer_ = createFramebuffer(context.device(), renderPass, color_.view, depth_.view, extent);
+}
+
+UniqueFramebuffer createFramebuffer(VkDevice device, VkRenderPass renderPass, VkImageView color,
+                                   VkImageView depth, VkExtent2D extent) {
+  const VkImageView views[2] = {color, depth};
   VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
   info.renderPass = renderPass;
   info.attachmentCount = 2;
@@ -73,8 +78,8 @@ OffscreenTarget::OffscreenTarget(const Context& context, VkRenderPass renderPass
   info.height = extent.height;
   info.layers = 1;
   VkFramebuffer framebuffer = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateFramebuffer(context.device(), &info, nullptr, &framebuffer));
-  framebuffer_ = UniqueFramebuffer(context.device(), framebuffer);
+  VK_CHECK(vkCreateFramebuffer(device, &info, nullptr, &framebuffer));
+  return UniqueFramebuffer(device, framebuffer);
 }
 
 void OffscreenTarget::recordReadback(VkCommandBuffer commands) const {

@@ -111,19 +111,7 @@ bool Swapchain::recreate(VkExtent2D framebufferSize) {
                        VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
   for (VkImage image : images_) {
     views_.push_back(createImageView(device, image, format_.format, VK_IMAGE_ASPECT_COLOR_BIT));
-    const VkImageView view = views_.back();
-
-    VkImageView attachments[2] = {view, depth_.view};
-    VkFramebufferCreateInfo fbInfo{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-    fbInfo.renderPass = renderPass_;
-    fbInfo.attachmentCount = 2;
-    fbInfo.pAttachments = attachments;
-    fbInfo.width = extent.width;
-    fbInfo.height = extent.height;
-    fbInfo.layers = 1;
-    VkFramebuffer framebuffer = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateFramebuffer(device, &fbInfo, nullptr, &framebuffer));
-    framebuffers_.emplace_back(device, framebuffer);
+    framebuffers_.push_back(createFramebuffer(device, renderPass_, views_.back(), depth_.view, extent));
 
     VkSemaphoreCreateInfo semaphoreInfo{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
     VkSemaphore semaphore = VK_NULL_HANDLE;
