@@ -50,7 +50,9 @@ struct BadInput {
   const char* mentions;  // the flag or key the one-line message must name
 };
 
-void PrintTo(const BadInput& c, std::ostream* os) { *os << "lava " << c.args; }
+void PrintTo(const BadInput& c, std::ostream* os) {
+  *os << "lava " << c.args;
+}
 
 // Test names: the arguments with every non-alphanumeric run turned into '_'.
 std::string caseName(const ::testing::TestParamInfo<BadInput>& info) {
@@ -71,8 +73,10 @@ TEST_P(HostileInput, ExitsTwoWithOneLineNamingTheProblem) {
   EXPECT_EQ(r.out, "");
 }
 
-const std::string kGarbageScene = writeScene("garbage.toml", std::string("\x00\xff\x13[[[=\x80", 8));
-const std::string kUnknownKey = writeScene("unknown.toml", "particles = 100\nlava_temperature = 3\n");
+const std::string kGarbageScene =
+    writeScene("garbage.toml", std::string("\x00\xff\x13[[[=\x80", 8));
+const std::string kUnknownKey =
+    writeScene("unknown.toml", "particles = 100\nlava_temperature = 3\n");
 const std::string kWrongType = writeScene("type.toml", "restitution = \"high\"\n");
 const std::string kWrongArity = writeScene("arity.toml", "emitter = [1.0, 2.0]\n");
 const std::string kBadRange = writeScene("range.toml", "friction = 2.5\n");
@@ -156,15 +160,9 @@ INSTANTIATE_TEST_SUITE_P(MissingScene, HostileInput, ::testing::ValuesIn(kBadSce
 
 TEST(SceneFile, HostileScenesExitTwoNamingTheKey) {
   const std::pair<std::string, std::string> cases[] = {
-      {kGarbageScene, "--scene"},
-      {kUnknownKey, "lava_temperature"},
-      {kWrongType, "restitution"},
-      {kWrongArity, "emitter"},
-      {kBadRange, "friction"},
-      {kNanScene, "restitution"},
-      {kInfScene, "gravity"},
-      {kNegativeCount, "particles"},
-      {kBoolScene, "mass"},
+      {kGarbageScene, "--scene"}, {kUnknownKey, "lava_temperature"}, {kWrongType, "restitution"},
+      {kWrongArity, "emitter"},   {kBadRange, "friction"},           {kNanScene, "restitution"},
+      {kInfScene, "gravity"},     {kNegativeCount, "particles"},     {kBoolScene, "mass"},
       {kTableScene, "emitter"},
   };
   for (const auto& [path, mentions] : cases) {
@@ -222,10 +220,11 @@ TEST(Simulate, SixteenMillionParticlesPastTheBindingRange) {
 
 TEST(Validate, SaysBitExactOnLavapipe) {
   const std::string csv = scratch("table.csv");
-  const Result r = lava("validate --particles 20000 --rate 7000 --steps 3000 --every 500 --csv " + csv);
+  const Result r =
+      lava("validate --particles 20000 --rate 7000 --steps 3000 --every 500 --csv " + csv);
   EXPECT_EQ(r.status, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("first divergent step: none (bit-exact over 3000 steps)"),
-            std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("first divergent step: none (bit-exact over 3000 steps)"), std::string::npos)
+      << r.out;
   EXPECT_NE(r.out.find("validate: PASS"), std::string::npos);
   const std::string table = readFile(csv);
   EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 7) << table;  // header + 6 checkpoints
@@ -234,7 +233,8 @@ TEST(Validate, SaysBitExactOnLavapipe) {
 
 TEST(Render, WritesPngFrames) {
   const std::string folder = scratch("frames");
-  const Result r = lava("render --frames 3 --fps 10 --size 160x90 --renderer splat --out " + folder);
+  const Result r =
+      lava("render --frames 3 --fps 10 --size 160x90 --renderer splat --out " + folder);
   ASSERT_EQ(r.status, 0) << r.err;
   for (const char* name : {"/frame_00000.png", "/frame_00001.png", "/frame_00002.png"})
     EXPECT_EQ(readFile(folder + name).substr(0, 8), "\x89PNG\r\n\x1a\n") << name;
@@ -243,8 +243,8 @@ TEST(Render, WritesPngFrames) {
 
 TEST(Demo, WithoutADisplayRendersHeadlessAndSaysWhere) {
   const std::string folder = scratch("demo-frames");
-  const Result r = lava("demo --frames 2 --size 160x90 --out " + folder,
-                        "env -u DISPLAY -u WAYLAND_DISPLAY ");
+  const Result r =
+      lava("demo --frames 2 --size 160x90 --out " + folder, "env -u DISPLAY -u WAYLAND_DISPLAY ");
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("no display"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(folder), std::string::npos) << r.out;
@@ -256,16 +256,17 @@ TEST(Bench, WritesTheJsonItPromises) {
   const Result r = lava("bench --sizes 4096,8192 --steps 20 --json " + json);
   ASSERT_EQ(r.status, 0) << r.err;
   const std::string text = readFile(json);
-  for (const char* key : {"\"device\"", "\"results\"", "\"backend\": \"gpu\"",
-                          "\"backend\": \"cpu\"", "\"backend\": \"cpu-mt\"",
-                          "\"particles\": 8192", "\"steps\": 20", "\"updates_per_second\"",
-                          "\"bytes_per_update\": 64", "\"roofline_fraction\""})
+  for (const char* key :
+       {"\"device\"", "\"results\"", "\"backend\": \"gpu\"", "\"backend\": \"cpu\"",
+        "\"backend\": \"cpu-mt\"", "\"particles\": 8192", "\"steps\": 20", "\"updates_per_second\"",
+        "\"bytes_per_update\": 64", "\"roofline_fraction\""})
     EXPECT_NE(text.find(key), std::string::npos) << key << "\n" << text;
   EXPECT_EQ(std::count(text.begin(), text.end(), '{'), 7) << text;  // 2 sizes x 3 backends
 }
 
 TEST(Environment, NoVulkanDriverIsOneClearLine) {
-  const Result r = lava("info", "env VK_DRIVER_FILES=/nonexistent/icd.json VK_ICD_FILENAMES=/nonexistent/icd.json ");
+  const Result r = lava(
+      "info", "env VK_DRIVER_FILES=/nonexistent/icd.json VK_ICD_FILENAMES=/nonexistent/icd.json ");
   EXPECT_EQ(r.status, 1) << r.out << r.err;
   EXPECT_NE(r.err.find("no Vulkan"), std::string::npos) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
@@ -278,8 +279,9 @@ TEST(Environment, BadLavaDeviceIsAUsageError) {
 }
 
 TEST(Environment, CpuBackendNeedsNoVulkan) {
-  const Result r = lava("simulate --steps 100 --backend cpu",
-                        "env VK_DRIVER_FILES=/nonexistent/icd.json VK_ICD_FILENAMES=/nonexistent/icd.json ");
+  const Result r =
+      lava("simulate --steps 100 --backend cpu",
+           "env VK_DRIVER_FILES=/nonexistent/icd.json VK_ICD_FILENAMES=/nonexistent/icd.json ");
   EXPECT_EQ(r.status, 0) << r.err;
 }
 

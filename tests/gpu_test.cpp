@@ -25,7 +25,9 @@ void expectIdentical(const std::vector<Particle>& gpu, const std::vector<Particl
 }
 
 Scene randomScene(std::mt19937& rng) {
-  auto uniform = [&](float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng); };
+  auto uniform = [&](float lo, float hi) {
+    return std::uniform_real_distribution<float>(lo, hi)(rng);
+  };
   Scene s;
   s.particles = 20000 + static_cast<uint32_t>(rng() % 5000);
   s.rate = uniform(1000.0f, 30000.0f);
@@ -62,8 +64,8 @@ TEST_F(GpuTest, RandomScenesAreBitIdenticalToTheCpuReference) {
 TEST_F(GpuTest, RingWrapsManyTimesWithinOneDispatch) {
   // step.comp finds each slot's last birth in a dispatch arithmetically; these scenes wrap
   // the ring several times per dispatch, fill it whole every step, or barely emit.
-  const std::pair<uint32_t, double> cases[] = {
-      {7, 3000.0}, {64, 64000.0}, {100, 1e9}, {5000, 333.3}, {1, 500.0}, {4099, 123456.7}};
+  const std::pair<uint32_t, double> cases[] = {{7, 3000.0},   {64, 64000.0}, {100, 1e9},
+                                               {5000, 333.3}, {1, 500.0},    {4099, 123456.7}};
   for (const auto& [capacity, rate] : cases) {
     SCOPED_TRACE("capacity " + std::to_string(capacity) + ", rate " + std::to_string(rate));
     Scene s;

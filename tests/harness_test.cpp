@@ -39,7 +39,8 @@ TEST_F(Harness, MissingBarrierIsReportedBySynchronizationValidation) {
   const std::vector<std::string> messages = copyTwice(context_, false);
   ASSERT_FALSE(messages.empty()) << "synchronization validation missed a RAW hazard";
   bool raw = false;
-  for (const std::string& m : messages) raw = raw || m.find("READ_AFTER_WRITE") != std::string::npos;
+  for (const std::string& m : messages)
+    raw = raw || m.find("READ_AFTER_WRITE") != std::string::npos;
   EXPECT_TRUE(raw) << messages.front();
 }
 
@@ -58,7 +59,8 @@ TEST_F(Harness, AnInvalidCallIsReportedByCoreValidation) {
     vkDestroyBuffer(context_.device(), buffer, nullptr);
   const std::vector<std::string> messages = context_.takeValidationMessages();
   ASSERT_FALSE(messages.empty());
-  EXPECT_NE(messages.front().find("VUID-VkBufferCreateInfo-size"), std::string::npos) << messages.front();
+  EXPECT_NE(messages.front().find("VUID-VkBufferCreateInfo-size"), std::string::npos)
+      << messages.front();
 }
 
 }  // namespace

@@ -83,9 +83,9 @@ TEST(Physics, NoImpulseWhenRisingThroughTheGround) {
   s.gravity = 0.0f;
   Particle p = alive({0.0f, -0.5f, 0.0f}, {3.0f, 1.0f, 0.0f});
   stepParticle(s, p, false, 0);
-  EXPECT_EQ(p.posAge.y, 0.0f);        // clamped to the ground
-  EXPECT_EQ(p.velMass.y, 1.0f);       // already leaving: no restitution
-  EXPECT_EQ(p.velMass.x, 3.0f);       // and no damping
+  EXPECT_EQ(p.posAge.y, 0.0f);   // clamped to the ground
+  EXPECT_EQ(p.velMass.y, 1.0f);  // already leaving: no restitution
+  EXPECT_EQ(p.velMass.x, 3.0f);  // and no damping
 }
 
 TEST(Physics, ElasticBounceKeepsSpeedAndZeroRestitutionStops) {

@@ -36,7 +36,8 @@ class RenderTest : public test::VulkanTest {
 
   // Pixel position of a world point.
   glm::ivec2 project(glm::vec3 p) const {
-    const glm::vec4 clip = camera_.viewProj(float(kSize.width) / float(kSize.height)) * glm::vec4(p, 1.0f);
+    const glm::vec4 clip =
+        camera_.viewProj(float(kSize.width) / float(kSize.height)) * glm::vec4(p, 1.0f);
     return {int((clip.x / clip.w * 0.5f + 0.5f) * float(kSize.width)),
             int((clip.y / clip.w * 0.5f + 0.5f) * float(kSize.height))};
   }
@@ -66,7 +67,7 @@ TEST_F(RenderTest, SlowParticleLineIsOrangeOnTheSky) {
   const auto image = render({particle(kSkyPoint, v, 0.0f)});
   const auto c = brightestNear(image, project(kSkyPoint + 0.5f * 0.3f * v));
   EXPECT_GT(c[0], 200) << c[0] << "," << c[1] << "," << c[2];
-  EXPECT_GT(c[1], 80);   // orange: green about half of red
+  EXPECT_GT(c[1], 80);  // orange: green about half of red
   EXPECT_LT(c[1], 170);
   EXPECT_LT(c[2], 60);
   const uint8_t* corner = &image[0];  // top-left: sky
@@ -125,7 +126,8 @@ TEST_F(RenderTest, SplatMovesTowardRedWithSpeedAndDrawsNoUnbornSlot) {
   EXPECT_GT(double(a[1]) / a[0], 0.4);
   EXPECT_LT(double(b[1]) / b[0], 0.15);
   std::vector<Particle> unborn(300, particle(kSkyPoint, slow, -1.0f));
-  EXPECT_EQ(render(unborn, LineMode::Splat), render({particle(kSkyPoint, slow, -1.0f)}, LineMode::Splat));
+  EXPECT_EQ(render(unborn, LineMode::Splat),
+            render({particle(kSkyPoint, slow, -1.0f)}, LineMode::Splat));
 }
 
 TEST_F(RenderTest, SplatAndPipelineLightTheSamePixels) {

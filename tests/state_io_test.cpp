@@ -1,11 +1,11 @@
 // .npy / .csv output as SPEC §4 fixes it, and the checks that keep bad paths from losing work.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 #include "compare.h"
 #include "state_io.h"

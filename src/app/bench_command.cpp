@@ -2,11 +2,11 @@
 // moving the bytes of one step, on the same device in the same run.
 #include <algorithm>
 #include <chrono>
-#include <functional>
-#include <thread>
 #include <cstdio>
+#include <functional>
 #include <optional>
 #include <sstream>
+#include <thread>
 
 #include "commands.h"
 #include "cpu_simulator.h"
@@ -42,23 +42,27 @@ double secondsOf(const std::function<void()>& work) {
 class BenchCommand final : public Command {
  public:
   explicit BenchCommand(CLI::App& app)
-      : Command(app.add_subcommand("bench", "updates/s of gpu, cpu and cpu-mt against the roofline")),
+      : Command(
+            app.add_subcommand("bench", "updates/s of gpu, cpu and cpu-mt against the roofline")),
         options_(*command_) {
     options_.addSceneFlags(scene_, device_);
-    options_.add("sizes", Kind::Text,
-                 "comma-separated particle counts [65536,262144,1048576,4194304]",
-                 [this](const std::string& src, const std::string& t) { sizes_ = parseSizes(src, t); });
+    options_.add(
+        "sizes", Kind::Text, "comma-separated particle counts [65536,262144,1048576,4194304]",
+        [this](const std::string& src, const std::string& t) { sizes_ = parseSizes(src, t); });
     options_.add("steps", Kind::Number, "steps timed per size and backend, 1..100000 [200]",
                  [this](const std::string& src, const std::string& t) {
                    steps_ = parseInteger(src, t, 1, 100000);
                  });
-    options_.add("steps-per-dispatch", Kind::Number,
-                 "GPU steps fused per dispatch, 1..256 [256]; 1 is the unfused, memory-bound step",
-                 [this](const std::string& src, const std::string& t) {
-                   fused_ = static_cast<uint32_t>(parseInteger(src, t, 1, GpuSimulator::kStepsPerDispatch));
-                 });
+    options_.add(
+        "steps-per-dispatch", Kind::Number,
+        "GPU steps fused per dispatch, 1..256 [256]; 1 is the unfused, memory-bound step",
+        [this](const std::string& src, const std::string& t) {
+          fused_ = static_cast<uint32_t>(parseInteger(src, t, 1, GpuSimulator::kStepsPerDispatch));
+        });
     options_.add("backends", Kind::Text, "comma-separated subset of gpu,cpu,cpu-mt [all]",
-                 [this](const std::string& src, const std::string& t) { backends_ = parseBackends(src, t); });
+                 [this](const std::string& src, const std::string& t) {
+                   backends_ = parseBackends(src, t);
+                 });
     options_.add("json", Kind::Text, "also write the results to FILE.json",
                  [this](const std::string& src, const std::string& t) {
                    checkOutputPath(src, t, ".json");
@@ -93,7 +97,8 @@ class BenchCommand final : public Command {
 
  private:
   bool wants(const std::string& backend) const {
-    return backends_.empty() || std::find(backends_.begin(), backends_.end(), backend) != backends_.end();
+    return backends_.empty() ||
+           std::find(backends_.begin(), backends_.end(), backend) != backends_.end();
   }
 
   // Every slot alive: one step of an emission rate that fills the whole ring.
@@ -152,8 +157,8 @@ class BenchCommand final : public Command {
     for (size_t i = 0; i < rows.size(); ++i) {
       const Row& r = rows[i];
       out << "    {\"backend\": \"" << r.backend << "\", \"device\": \""
-          << (r.backend == "gpu" ? device : std::string("host CPU")) << "\", \"particles\": "
-          << r.particles << ", \"steps\": " << r.steps
+          << (r.backend == "gpu" ? device : std::string("host CPU"))
+          << "\", \"particles\": " << r.particles << ", \"steps\": " << r.steps
           << ", \"updates_per_second\": " << r.updatesPerSecond
           << ", \"device_updates_per_second\": " << r.deviceUpdatesPerSecond
           << ", \"bytes_per_update\": " << kBytesPerUpdate << ", \"copy_gbps\": " << r.copyGbps
@@ -174,7 +179,8 @@ class BenchCommand final : public Command {
     return sizes;
   }
 
-  static std::vector<std::string> parseBackends(const std::string& source, const std::string& text) {
+  static std::vector<std::string> parseBackends(const std::string& source,
+                                                const std::string& text) {
     std::vector<std::string> backends;
     std::stringstream stream(text);
     for (std::string item; std::getline(stream, item, ',');) {
@@ -199,6 +205,8 @@ class BenchCommand final : public Command {
 
 }  // namespace
 
-std::unique_ptr<Command> makeBench(CLI::App& app) { return std::make_unique<BenchCommand>(app); }
+std::unique_ptr<Command> makeBench(CLI::App& app) {
+  return std::make_unique<BenchCommand>(app);
+}
 
 }  // namespace lava::app

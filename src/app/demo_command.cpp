@@ -19,13 +19,15 @@ class DemoCommand final : public Command {
       : Command(app.add_subcommand("demo", "the interactive lava demo in a window")),
         options_(*command_) {
     options_.addSceneFlags(demo_.scene, demo_.device);
-    options_.add("size", Kind::Text, "window size WxH [1280x720]",
-                 [this](const std::string& src, const std::string& t) { demo_.size = parseSize(src, t); });
-    options_.add("frames", Kind::Number,
-                 "exit after N frames with an average-fps line, 1..10000000 [until closed; 90 headless]",
-                 [this](const std::string& src, const std::string& t) {
-                   demo_.frames = static_cast<uint32_t>(parseInteger(src, t, 1, 10000000));
-                 });
+    options_.add(
+        "size", Kind::Text, "window size WxH [1280x720]",
+        [this](const std::string& src, const std::string& t) { demo_.size = parseSize(src, t); });
+    options_.add(
+        "frames", Kind::Number,
+        "exit after N frames with an average-fps line, 1..10000000 [until closed; 90 headless]",
+        [this](const std::string& src, const std::string& t) {
+          demo_.frames = static_cast<uint32_t>(parseInteger(src, t, 1, 10000000));
+        });
     options_.add("renderer", Kind::Text,
                  "splat (compute) or lines (the graphics pipeline, the reference) "
                  "[splat from 16384 particles, else lines]",
@@ -40,8 +42,9 @@ class DemoCommand final : public Command {
     command_->add_flag("--vsync", demo_.vsync, "present with FIFO (vsync); default: fastest mode");
     command_->add_flag("--exercise", demo_.exercise,
                        "resize, minimise and restore the window on a schedule (for tests)");
-    options_.add("out", Kind::Text, "folder for headless frames [lava-demo-frames]",
-                 [this](const std::string& src, const std::string& t) { out_ = outputFolder(src, t); });
+    options_.add(
+        "out", Kind::Text, "folder for headless frames [lava-demo-frames]",
+        [this](const std::string& src, const std::string& t) { out_ = outputFolder(src, t); });
   }
 
   int run() override {
@@ -50,11 +53,12 @@ class DemoCommand final : public Command {
     if (!headless_) {
       try {
         const DemoSummary s = runDemoWindow(demo_);
-        std::printf("demo: %u frames in %.2f s, average %.1f fps (%ux%u, %u particles, %s, %s; "
-                    "GPU per frame: simulate %.2f ms, draw %.2f ms)\n",
-                    s.frames, s.seconds, s.seconds > 0 ? s.frames / s.seconds : 0.0, s.size.width,
-                    s.size.height, demo_.scene.particles, s.device.c_str(), s.presentMode.c_str(),
-                    s.simulateMs, s.drawMs);
+        std::printf(
+            "demo: %u frames in %.2f s, average %.1f fps (%ux%u, %u particles, %s, %s; "
+            "GPU per frame: simulate %.2f ms, draw %.2f ms)\n",
+            s.frames, s.seconds, s.seconds > 0 ? s.frames / s.seconds : 0.0, s.size.width,
+            s.size.height, demo_.scene.particles, s.device.c_str(), s.presentMode.c_str(),
+            s.simulateMs, s.drawMs);
         return s.validationMessages ? 1 : 0;
       } catch (const NoDisplay& e) {
         std::printf("demo: %s; rendering headless instead\n", e.what());
@@ -83,6 +87,8 @@ class DemoCommand final : public Command {
 
 }  // namespace
 
-std::unique_ptr<Command> makeDemo(CLI::App& app) { return std::make_unique<DemoCommand>(app); }
+std::unique_ptr<Command> makeDemo(CLI::App& app) {
+  return std::make_unique<DemoCommand>(app);
+}
 
 }  // namespace lava::app

@@ -21,7 +21,8 @@ VkExtent2D parseSize(const std::string& source, const std::string& text) {
   if (std::sscanf(text.c_str(), "%ux%u", &w, &h) != 2 || w == 0 || h == 0 || w > 65536 ||
       h > 65536 || text.find_first_not_of("0123456789x") != std::string::npos ||
       text != std::to_string(w) + "x" + std::to_string(h))
-    throw UsageError(source + ": expected WIDTHxHEIGHT with each in [1, 16384], got '" + text + "'");
+    throw UsageError(source + ": expected WIDTHxHEIGHT with each in [1, 16384], got '" + text +
+                     "'");
   return {w, h};
 }
 

@@ -13,10 +13,10 @@ namespace lava::app {
 
 struct FramePlan {
   uint32_t frames = 1;
-  double fps = 30.0;             // frames per simulated second
+  double fps = 30.0;  // frames per simulated second
   VkExtent2D size{1280, 720};
-  double warmup = 3.0;           // seconds simulated before the first frame
-  std::string folder;            // frame_00000.png ... go here
+  double warmup = 3.0;  // seconds simulated before the first frame
+  std::string folder;   // frame_00000.png ... go here
   LineMode lines = LineMode::Pipeline;
 };
 

@@ -29,7 +29,8 @@ class InfoCommand final : public Command {
       const uint32_t api = d.properties.apiVersion;
       std::printf("  [%u] %-40s %-15s Vulkan %u.%u.%u%s\n", d.index, d.name.c_str(),
                   deviceTypeName(d.type), VK_API_VERSION_MAJOR(api), VK_API_VERSION_MINOR(api),
-                  VK_API_VERSION_PATCH(api), d.index == context.deviceIndex() ? "  <- selected" : "");
+                  VK_API_VERSION_PATCH(api),
+                  d.index == context.deviceIndex() ? "  <- selected" : "");
     }
     VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
     VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
@@ -61,6 +62,8 @@ class InfoCommand final : public Command {
 
 }  // namespace
 
-std::unique_ptr<Command> makeInfo(CLI::App& app) { return std::make_unique<InfoCommand>(app); }
+std::unique_ptr<Command> makeInfo(CLI::App& app) {
+  return std::make_unique<InfoCommand>(app);
+}
 
 }  // namespace lava::app

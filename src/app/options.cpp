@@ -53,7 +53,8 @@ std::string tomlText(const std::string& source, const toml::node& node, Kind kin
       const toml::array* array = node.as_array();
       if (!array) throw UsageError(source + ": expected an array of 3 numbers like [0, 1.5, 0]");
       std::string joined;
-      for (const toml::node& element : *array) joined += (joined.empty() ? "" : ",") + number(element);
+      for (const toml::node& element : *array)
+        joined += (joined.empty() ? "" : ",") + number(element);
       return joined;
     }
     case Kind::Text:
@@ -81,8 +82,8 @@ uint64_t parseInteger(const std::string& source, const std::string& text, uint64
 
 double parseNumber(const std::string& source, const std::string& text, double lo, double hi,
                    bool loOpen) {
-  const std::string expected = "a number in " + std::string(loOpen ? "(" : "[") +
-                               formatNumber(lo) + ", " + formatNumber(hi) + "]";
+  const std::string expected = "a number in " + std::string(loOpen ? "(" : "[") + formatNumber(lo) +
+                               ", " + formatNumber(hi) + "]";
   double value = 0.0;
   if (!readDouble(text, value) || !std::isfinite(value)) reject(source, expected, text);
   if (value < lo || value > hi || (loOpen && value == lo)) reject(source, expected, text);
@@ -94,12 +95,14 @@ glm::vec3 parseVec3(const std::string& source, const std::string& text, double l
   std::stringstream stream(text);
   for (std::string part; std::getline(stream, part, ',');) parts.push_back(part);
   if (parts.size() != 3 || text.back() == ',')
-    reject(source, "3 comma-separated numbers X,Y,Z each in [" + formatNumber(lo) + ", " +
-                       formatNumber(hi) + "]",
+    reject(source,
+           "3 comma-separated numbers X,Y,Z each in [" + formatNumber(lo) + ", " +
+               formatNumber(hi) + "]",
            text);
   glm::vec3 v;
   for (int i = 0; i < 3; ++i)
-    v[i] = static_cast<float>(parseNumber(source + " (component " + "xyz"[i] + ")", parts[i], lo, hi));
+    v[i] =
+        static_cast<float>(parseNumber(source + " (component " + "xyz"[i] + ")", parts[i], lo, hi));
   return v;
 }
 
@@ -111,9 +114,12 @@ Options::Options(CLI::App& command) : command_(command) {
 void Options::add(const std::string& name, Kind kind, const std::string& help, Apply apply,
                   bool required) {
   auto* flag = command_.add_option("--" + name, given_[name], help);
-  if (kind == Kind::Vector) flag->type_name("X,Y,Z");
-  else if (kind == Kind::Number) flag->type_name("NUM");
-  else flag->type_name("TEXT");
+  if (kind == Kind::Vector)
+    flag->type_name("X,Y,Z");
+  else if (kind == Kind::Number)
+    flag->type_name("NUM");
+  else
+    flag->type_name("TEXT");
   specs_.push_back({name, kind, std::move(apply), required, flag});
 }
 
@@ -136,8 +142,8 @@ std::map<std::string, std::string> Options::readScene() const {
   for (const auto& [key, node] : table) {
     const std::string name(key.str());
     const std::string source = scenePath_ + ": " + name;
-    auto spec = std::find_if(specs_.begin(), specs_.end(),
-                             [&](const Spec& s) { return s.name == name; });
+    auto spec =
+        std::find_if(specs_.begin(), specs_.end(), [&](const Spec& s) { return s.name == name; });
     if (spec == specs_.end()) {
       std::string known;
       for (const Spec& s : specs_) known += (known.empty() ? "" : ", ") + s.name;
@@ -196,13 +202,19 @@ void Options::addSceneFlags(Scene& s, std::optional<unsigned>& device) {
         s.lineScale = static_cast<float>(parseNumber(src, t, 0, 10));
       });
   add("emitter", Kind::Vector, "emitter centre in m, each -1e4..1e4 [" + vec(d.emitter) + "]",
-      [&s](const std::string& src, const std::string& t) { s.emitter = parseVec3(src, t, -1e4, 1e4); });
-  add("emitter-radius", Kind::Number, "emitter disc radius in m, 0..1e4 [" + f(d.emitterRadius) + "]",
+      [&s](const std::string& src, const std::string& t) {
+        s.emitter = parseVec3(src, t, -1e4, 1e4);
+      });
+  add("emitter-radius", Kind::Number,
+      "emitter disc radius in m, 0..1e4 [" + f(d.emitterRadius) + "]",
       [&s](const std::string& src, const std::string& t) {
         s.emitterRadius = static_cast<float>(parseNumber(src, t, 0, 1e4));
       });
-  add("velocity", Kind::Vector, "mean launch velocity in m/s, each -1e4..1e4 [" + vec(d.velocity) + "]",
-      [&s](const std::string& src, const std::string& t) { s.velocity = parseVec3(src, t, -1e4, 1e4); });
+  add("velocity", Kind::Vector,
+      "mean launch velocity in m/s, each -1e4..1e4 [" + vec(d.velocity) + "]",
+      [&s](const std::string& src, const std::string& t) {
+        s.velocity = parseVec3(src, t, -1e4, 1e4);
+      });
   add("spread", Kind::Vector, "launch velocity spread in m/s, each 0..1e4 [" + vec(d.spread) + "]",
       [&s](const std::string& src, const std::string& t) { s.spread = parseVec3(src, t, 0, 1e4); });
   add("mass", Kind::Number, "particle mass in kg, 1e-6..1e6 [" + f(d.mass) + "]",
@@ -210,7 +222,9 @@ void Options::addSceneFlags(Scene& s, std::optional<unsigned>& device) {
         s.mass = static_cast<float>(parseNumber(src, t, 1e-6, 1e6));
       });
   add("wind", Kind::Vector, "wind force in N, each -1e4..1e4 [" + vec(d.wind) + "]",
-      [&s](const std::string& src, const std::string& t) { s.wind = parseVec3(src, t, -1e4, 1e4); });
+      [&s](const std::string& src, const std::string& t) {
+        s.wind = parseVec3(src, t, -1e4, 1e4);
+      });
   add("drag", Kind::Number, "linear drag in N s/m, 0..1e4 [" + f(d.drag) + "]",
       [&s](const std::string& src, const std::string& t) {
         s.drag = static_cast<float>(parseNumber(src, t, 0, 1e4));

@@ -14,7 +14,9 @@
 namespace lava::app {
 namespace {
 
-bool haveFfmpeg() { return std::system("command -v ffmpeg >/dev/null 2>&1") == 0; }
+bool haveFfmpeg() {
+  return std::system("command -v ffmpeg >/dev/null 2>&1") == 0;
+}
 
 class RenderCommand final : public Command {
  public:
@@ -22,38 +24,42 @@ class RenderCommand final : public Command {
       : Command(app.add_subcommand("render", "write PNG frames of the scene (no display needed)")),
         options_(*command_) {
     options_.addSceneFlags(scene_, device_);
-    options_.add("frames", Kind::Number, "frames to write, 1..100000 (required)",
-                 [this](const std::string& src, const std::string& t) {
-                   plan_.frames = static_cast<uint32_t>(parseInteger(src, t, 1, 100000));
-                 }, true);
+    options_.add(
+        "frames", Kind::Number, "frames to write, 1..100000 (required)",
+        [this](const std::string& src, const std::string& t) {
+          plan_.frames = static_cast<uint32_t>(parseInteger(src, t, 1, 100000));
+        },
+        true);
     options_.add("fps", Kind::Number, "frames per simulated second, (0, 1000] [30]",
                  [this](const std::string& src, const std::string& t) {
                    plan_.fps = parseNumber(src, t, 0, 1000, true);
                  });
-    options_.add("size", Kind::Text, "image size WxH, each 1..the device limit [1280x720]",
-                 [this](const std::string& src, const std::string& t) {
-                   plan_.size = parseSize(src, t);
-                 });
+    options_.add(
+        "size", Kind::Text, "image size WxH, each 1..the device limit [1280x720]",
+        [this](const std::string& src, const std::string& t) { plan_.size = parseSize(src, t); });
     options_.add("warmup", Kind::Number, "seconds simulated before the first frame, 0..600 [3]",
                  [this](const std::string& src, const std::string& t) {
                    plan_.warmup = parseNumber(src, t, 0, 600);
                  });
-    options_.add("out", Kind::Text, "folder for frame_00000.png ... (created if missing)",
-                 [this](const std::string& src, const std::string& t) {
-                   plan_.folder = outputFolder(src, t);
-                 }, true);
+    options_.add(
+        "out", Kind::Text, "folder for frame_00000.png ... (created if missing)",
+        [this](const std::string& src, const std::string& t) {
+          plan_.folder = outputFolder(src, t);
+        },
+        true);
     options_.add("renderer", Kind::Text,
                  "lines (the graphics pipeline, the reference) or splat (compute) [lines]",
                  [this](const std::string& src, const std::string& t) {
                    plan_.lines = parseLineMode(src, t);
                  });
-    options_.add("video", Kind::Text, "also encode FILE.mp4 with ffmpeg (must be installed)",
-                 [this](const std::string& src, const std::string& t) {
-                   checkOutputPath(src, t, ".mp4");
-                   if (!haveFfmpeg())
-                     throw UsageError(src + ": needs ffmpeg on the PATH (Debian: apt install ffmpeg)");
-                   video_ = t;
-                 });
+    options_.add(
+        "video", Kind::Text, "also encode FILE.mp4 with ffmpeg (must be installed)",
+        [this](const std::string& src, const std::string& t) {
+          checkOutputPath(src, t, ".mp4");
+          if (!haveFfmpeg())
+            throw UsageError(src + ": needs ffmpeg on the PATH (Debian: apt install ffmpeg)");
+          video_ = t;
+        });
   }
 
   int run() override {
@@ -87,6 +93,8 @@ class RenderCommand final : public Command {
 
 }  // namespace
 
-std::unique_ptr<Command> makeRender(CLI::App& app) { return std::make_unique<RenderCommand>(app); }
+std::unique_ptr<Command> makeRender(CLI::App& app) {
+  return std::make_unique<RenderCommand>(app);
+}
 
 }  // namespace lava::app

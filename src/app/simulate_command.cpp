@@ -20,10 +20,12 @@ class SimulateCommand final : public Command {
       : Command(app.add_subcommand("simulate", "run a scene headless and write its final state")),
         options_(*command_) {
     options_.addSceneFlags(scene_, device_);
-    options_.add("steps", Kind::Number, "steps to run, 0..1e9 (required)",
-                 [this](const std::string& src, const std::string& t) {
-                   steps_ = parseInteger(src, t, 0, 1000000000);
-                 }, true);
+    options_.add(
+        "steps", Kind::Number, "steps to run, 0..1e9 (required)",
+        [this](const std::string& src, const std::string& t) {
+          steps_ = parseInteger(src, t, 0, 1000000000);
+        },
+        true);
     options_.add("backend", Kind::Text, "gpu (the Vulkan device) or cpu (the reference) [gpu]",
                  [this](const std::string& src, const std::string& t) {
                    if (t != "gpu" && t != "cpu")
@@ -76,13 +78,14 @@ class SimulateCommand final : public Command {
       below += p.posAge.w >= 0.0f && p.posAge.y < 0.0f;
     }
     if (!out_.empty()) writeState(out_, state.particles);
-    std::printf("simulate: %u particles x %llu steps on %s in %s: %llu alive, %llu below ground, "
-                "state hash %016llx%s%s\n",
-                scene_.particles, static_cast<unsigned long long>(steps_), where.c_str(),
-                formatSeconds(seconds).c_str(), static_cast<unsigned long long>(alive),
-                static_cast<unsigned long long>(below),
-                static_cast<unsigned long long>(stateHash(state.particles)),
-                out_.empty() ? "" : ", wrote ", out_.c_str());
+    std::printf(
+        "simulate: %u particles x %llu steps on %s in %s: %llu alive, %llu below ground, "
+        "state hash %016llx%s%s\n",
+        scene_.particles, static_cast<unsigned long long>(steps_), where.c_str(),
+        formatSeconds(seconds).c_str(), static_cast<unsigned long long>(alive),
+        static_cast<unsigned long long>(below),
+        static_cast<unsigned long long>(stateHash(state.particles)), out_.empty() ? "" : ", wrote ",
+        out_.c_str());
     return context ? finish(*context, 0) : 0;
   }
 

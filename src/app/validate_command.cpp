@@ -22,10 +22,12 @@ class ValidateCommand final : public Command {
       : Command(app.add_subcommand("validate", "compare the GPU against the CPU reference")),
         options_(*command_) {
     options_.addSceneFlags(scene_, device_);
-    options_.add("steps", Kind::Number, "steps to run, 1..1e9 (required)",
-                 [this](const std::string& src, const std::string& t) {
-                   steps_ = parseInteger(src, t, 1, 1000000000);
-                 }, true);
+    options_.add(
+        "steps", Kind::Number, "steps to run, 1..1e9 (required)",
+        [this](const std::string& src, const std::string& t) {
+          steps_ = parseInteger(src, t, 1, 1000000000);
+        },
+        true);
     options_.add("every", Kind::Number, "compare every K steps, 1..1e9 [steps/10]",
                  [this](const std::string& src, const std::string& t) {
                    every_ = parseInteger(src, t, 1, 1000000000);

@@ -16,8 +16,9 @@ bool hasLayer(const char* name) {
   VK_CHECK(vkEnumerateInstanceLayerProperties(&count, nullptr));
   std::vector<VkLayerProperties> layers(count);
   VK_CHECK(vkEnumerateInstanceLayerProperties(&count, layers.data()));
-  return std::any_of(layers.begin(), layers.end(),
-                     [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
+  return std::any_of(layers.begin(), layers.end(), [&](const VkLayerProperties& l) {
+    return std::strcmp(l.layerName, name) == 0;
+  });
 }
 
 int typeRank(VkPhysicalDeviceType type) {
@@ -120,8 +121,9 @@ Context::Context(const ContextOptions& options) {
     std::vector<VkQueueFamilyProperties> families(familyCount);
     vkGetPhysicalDeviceQueueFamilyProperties(physical_, &familyCount, families.data());
     const VkQueueFlags both = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
-    auto it = std::find_if(families.begin(), families.end(),
-                           [&](const VkQueueFamilyProperties& f) { return (f.queueFlags & both) == both; });
+    auto it = std::find_if(families.begin(), families.end(), [&](const VkQueueFamilyProperties& f) {
+      return (f.queueFlags & both) == both;
+    });
     if (it == families.end())
       throw ResourceError(std::string("device '") + properties_.deviceName +
                           "' has no queue with both graphics and compute");
@@ -152,7 +154,9 @@ Context::Context(const ContextOptions& options) {
   }
 }
 
-Context::~Context() { release(); }
+Context::~Context() {
+  release();
+}
 
 void Context::release() {
   if (device_) {
@@ -177,7 +181,8 @@ void Context::pickDevice(const ContextOptions& options) {
   VK_CHECK(vkEnumeratePhysicalDevices(instance_, &count, nullptr));
   if (count == 0)
     throw ResourceError(
-        "no Vulkan device found (install a driver, e.g. Debian's mesa-vulkan-drivers for lavapipe)");
+        "no Vulkan device found (install a driver, e.g. Debian's mesa-vulkan-drivers for "
+        "lavapipe)");
   std::vector<VkPhysicalDevice> physical(count);
   VK_CHECK(vkEnumeratePhysicalDevices(instance_, &count, physical.data()));
   for (unsigned i = 0; i < count; ++i) {
@@ -196,12 +201,12 @@ void Context::pickDevice(const ContextOptions& options) {
   } else if (const char* env = std::getenv("LAVA_DEVICE"); env && *env) {
     deviceIndex_ = parseDeviceIndex("LAVA_DEVICE", env, count);
   } else {
-    deviceIndex_ = static_cast<unsigned>(
-        std::min_element(devices_.begin(), devices_.end(),
-                         [](const DeviceSummary& a, const DeviceSummary& b) {
-                           return typeRank(a.type) < typeRank(b.type);
-                         }) -
-        devices_.begin());
+    deviceIndex_ =
+        static_cast<unsigned>(std::min_element(devices_.begin(), devices_.end(),
+                                               [](const DeviceSummary& a, const DeviceSummary& b) {
+                                                 return typeRank(a.type) < typeRank(b.type);
+                                               }) -
+                              devices_.begin());
   }
   physical_ = physical[deviceIndex_];
   properties_ = devices_[deviceIndex_].properties;

@@ -13,8 +13,8 @@
 namespace lava {
 
 struct ContextOptions {
-  bool validation = false;      // enable VK_LAYER_KHRONOS_validation (throws if missing)
-  bool syncValidation = false;  // also its synchronization validation
+  bool validation = false;              // enable VK_LAYER_KHRONOS_validation (throws if missing)
+  bool syncValidation = false;          // also its synchronization validation
   std::optional<unsigned> deviceIndex;  // explicit choice; else LAVA_DEVICE, else the best
   std::vector<const char*> instanceExtensions;  // e.g. from glfwGetRequiredInstanceExtensions
   bool swapchain = false;                       // enable VK_KHR_swapchain on the device

@@ -36,7 +36,8 @@ void emit(const Scene& s, uint64_t serial, Particle& q) {
 
 SimState initialState(const Scene& scene) {
   SimState state;
-  state.particles.assign(scene.particles, Particle{{0.0f, 0.0f, 0.0f, -1.0f}, {0.0f, 0.0f, 0.0f, 0.0f}});
+  state.particles.assign(scene.particles,
+                         Particle{{0.0f, 0.0f, 0.0f, -1.0f}, {0.0f, 0.0f, 0.0f, 0.0f}});
   return state;
 }
 
@@ -116,7 +117,8 @@ void CpuSimulator::advance(uint64_t steps) {
     } else {
       std::vector<std::thread> workers;
       for (unsigned t = 0; t < threads_; ++t)
-        workers.emplace_back([&, t] { runRange(schedule, n * t / threads_, n * (t + 1) / threads_); });
+        workers.emplace_back(
+            [&, t] { runRange(schedule, n * t / threads_, n * (t + 1) / threads_); });
       for (std::thread& w : workers) w.join();
     }
     steps -= batch;

@@ -6,9 +6,9 @@
 namespace lava {
 
 struct EmitStep {
-  uint32_t head;          // first slot (re)born this step
-  uint32_t count;         // slots born: head, head+1, ... mod capacity
-  uint64_t firstSerial;   // serial number of the particle in slot `head`
+  uint32_t head;         // first slot (re)born this step
+  uint32_t count;        // slots born: head, head+1, ... mod capacity
+  uint64_t firstSerial;  // serial number of the particle in slot `head`
 };
 
 struct EmissionClock {

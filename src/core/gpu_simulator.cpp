@@ -34,8 +34,8 @@ GpuSimulator::GpuSimulator(Context& context, const Scene& scene)
   if (scene.particles > limit)
     throw UsageError("--particles: " + std::to_string(scene.particles) + " particles need " +
                      std::to_string((scene.particles * kParticleBytes) >> 20) + " MiB; device '" +
-                     context.properties().deviceName + "' allows at most " +
-                     std::to_string(limit) + " (see 'lava info')");
+                     context.properties().deviceName + "' allows at most " + std::to_string(limit) +
+                     " (see 'lava info')");
   const VkDeviceSize bytes = scene.particles * kParticleBytes;
   const VkMemoryPropertyFlags hostMemory =
       VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
@@ -43,8 +43,9 @@ GpuSimulator::GpuSimulator(Context& context, const Scene& scene)
                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
                           VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                       VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  staging_ = Buffer(context, bytes,
-                    VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, hostMemory);
+  staging_ =
+      Buffer(context, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+             hostMemory);
   schedule_ = Buffer(context, kStepsPerSubmit * sizeof(gpu::EmitEntry),
                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, hostMemory);
   planned_.resize(kStepsPerSubmit + 1);
@@ -76,8 +77,8 @@ void GpuSimulator::load(const SimState& state) {
   context_.submitNow([&](VkCommandBuffer commands) {
     // WAW/WAR: earlier dispatches wrote, and a download read, the particles overwritten here.
     memoryBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-            VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-            VK_ACCESS_TRANSFER_WRITE_BIT);
+                  VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                  VK_ACCESS_TRANSFER_WRITE_BIT);
     VkBufferCopy region{0, 0, staging_.size()};
     vkCmdCopyBuffer(commands, staging_.get(), particles_.get(), 1, &region);
   });
@@ -87,13 +88,13 @@ SimState GpuSimulator::state() {
   context_.submitNow([&](VkCommandBuffer commands) {
     // RAW: step.comp wrote the particles this copy reads.
     memoryBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-            VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-            VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
     VkBufferCopy region{0, 0, staging_.size()};
     vkCmdCopyBuffer(commands, particles_.get(), staging_.get(), 1, &region);
     // RAW: the host reads what the copy wrote into staging.
     memoryBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-            VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+                  VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
   });
   SimState out;
   out.particles.resize(scene_.particles);
@@ -110,7 +111,8 @@ void GpuSimulator::setScene(const Scene& scene) {
 
 void GpuSimulator::planSteps(uint32_t first, uint32_t count) {
   if (first + count > kStepsPerSubmit)
-    throw std::out_of_range("planSteps: schedule has " + std::to_string(kStepsPerSubmit) + " entries");
+    throw std::out_of_range("planSteps: schedule has " + std::to_string(kStepsPerSubmit) +
+                            " entries");
   auto* entries = static_cast<gpu::EmitEntry*>(schedule_.mapped());
   uint64_t births = 0;  // only differences within one dispatch matter
   for (uint32_t k = first; k < first + count; ++k) {
@@ -135,11 +137,12 @@ void GpuSimulator::recordSteps(VkCommandBuffer commands, uint32_t first, uint32_
       ++steps;
     // RAW/WAW: the previous dispatch or upload wrote the particles this one reads and writes;
     // WAR: lines.vert of the last frame read them.
-    memoryBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
-                          VK_PIPELINE_STAGE_VERTEX_SHADER_BIT,
-            VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-            VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    memoryBarrier(commands,
+                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+                      VK_PIPELINE_STAGE_VERTEX_SHADER_BIT,
+                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
     params.run.z = first + done;
     params.run.w = steps;
     for (const Chunk& chunk : chunks_) {

@@ -59,7 +59,8 @@ class GpuSimulator final : public Simulator {
   UniqueDescriptorPool descriptorPool_;
   std::vector<Chunk> chunks_;
   std::vector<uint64_t> planned_;
-  uint32_t stepsPerDispatch_ = kStepsPerDispatch;  // births before each planned entry (host copy of sums.x)
+  uint32_t stepsPerDispatch_ =
+      kStepsPerDispatch;  // births before each planned entry (host copy of sums.x)
 };
 
 }  // namespace lava

@@ -13,7 +13,8 @@ namespace {
 
 constexpr uint32_t kGroundVertices = 6 + 48 * 6;  // plane + crater quads (ground.vert)
 
-UniqueRenderPass createRenderPass(VkDevice device, VkFormat colorFormat, VkImageLayout finalLayout) {
+UniqueRenderPass createRenderPass(VkDevice device, VkFormat colorFormat,
+                                  VkImageLayout finalLayout) {
   VkAttachmentDescription attachments[2] = {};
   attachments[0].format = colorFormat;
   attachments[0].samples = VK_SAMPLE_COUNT_1_BIT;
@@ -41,10 +42,10 @@ UniqueRenderPass createRenderPass(VkDevice device, VkFormat colorFormat, VkImage
   dependencies[0].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
                                  VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT |
                                  VK_PIPELINE_STAGE_TRANSFER_BIT;
-  dependencies[0].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
-                                  VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-  dependencies[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
-                                 VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
+  dependencies[0].srcAccessMask =
+      VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+  dependencies[0].dstStageMask =
+      VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
   dependencies[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
                                   VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT |
                                   VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
@@ -109,8 +110,9 @@ void LineRenderer::bind(const GpuSimulator& simulator) {
   descriptorPool_ = createStoragePool(device, count, count);
   for (const auto& [first, particles] : ranges) {
     const VkDescriptorSet set = allocateSet(device, descriptorPool_, setLayout_);
-    writeStorage(device, set, gpu::kParticleBinding,
-                 {simulator.particleBuffer(), first * sizeof(Particle), particles * sizeof(Particle)});
+    writeStorage(
+        device, set, gpu::kParticleBinding,
+        {simulator.particleBuffer(), first * sizeof(Particle), particles * sizeof(Particle)});
     chunks_.push_back({first, particles, set});
   }
 }

@@ -30,8 +30,8 @@ ImageWithMemory createImage(const Context& context, VkExtent2D extent, VkFormat 
   vkGetImageMemoryRequirements(device, image, &requirements);
   VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
   alloc.allocationSize = requirements.size;
-  alloc.memoryTypeIndex = context.findMemoryType(requirements.memoryTypeBits,
-                                                 VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  alloc.memoryTypeIndex =
+      context.findMemoryType(requirements.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
   VkDeviceMemory memory = VK_NULL_HANDLE;
   VK_CHECK(vkAllocateMemory(device, &alloc, nullptr, &memory));
   out.memory = UniqueMemory(device, memory);
@@ -53,8 +53,7 @@ UniqueImageView createImageView(VkDevice device, VkImage image, VkFormat format,
   return UniqueImageView(device, view);
 }
 
-OffscreenTarget::OffscreenTarget(const Context& context, VkRenderPass renderPass,
-                                 VkExtent2D extent)
+OffscreenTarget::OffscreenTarget(const Context& context, VkRenderPass renderPass, VkExtent2D extent)
     : extent_(extent),
       color_(createImage(context, extent, kColorFormat,
                          VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
@@ -68,7 +67,7 @@ OffscreenTarget::OffscreenTarget(const Context& context, VkRenderPass renderPass
 }
 
 UniqueFramebuffer createFramebuffer(VkDevice device, VkRenderPass renderPass, VkImageView color,
-                                   VkImageView depth, VkExtent2D extent) {
+                                    VkImageView depth, VkExtent2D extent) {
   const VkImageView views[2] = {color, depth};
   VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
   info.renderPass = renderPass;

@@ -19,7 +19,7 @@ UniqueImageView createImageView(VkDevice device, VkImage image, VkFormat format,
                                 VkImageAspectFlags aspect);
 // A framebuffer of LineRenderer's render pass: a color and a depth attachment.
 UniqueFramebuffer createFramebuffer(VkDevice device, VkRenderPass renderPass, VkImageView color,
-                                   VkImageView depth, VkExtent2D extent);
+                                    VkImageView depth, VkExtent2D extent);
 // A 2D image in device-local memory with a view of `aspect`.
 ImageWithMemory createImage(const Context& context, VkExtent2D extent, VkFormat format,
                             VkImageUsageFlags usage, VkImageAspectFlags aspect);

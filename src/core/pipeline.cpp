@@ -13,8 +13,8 @@ UniqueShaderModule createShaderModule(VkDevice device, const uint32_t* code, siz
   return UniqueShaderModule(device, module);
 }
 
-UniquePipeline createComputePipeline(VkDevice device, VkPipelineLayout layout,
-                                     const uint32_t* code, size_t bytes, uint32_t workgroupSize) {
+UniquePipeline createComputePipeline(VkDevice device, VkPipelineLayout layout, const uint32_t* code,
+                                     size_t bytes, uint32_t workgroupSize) {
   UniqueShaderModule module = createShaderModule(device, code, bytes);
   VkSpecializationMapEntry entry{0, 0, sizeof(uint32_t)};
   VkSpecializationInfo specialization{1, &entry, sizeof(uint32_t), &workgroupSize};
@@ -34,8 +34,9 @@ UniquePipeline createGraphicsPipeline(VkDevice device, VkPipelineLayout layout, 
                                       const GraphicsPipelineDesc& desc) {
   UniqueShaderModule vert = createShaderModule(device, desc.vert, desc.vertBytes);
   UniqueShaderModule frag = createShaderModule(device, desc.frag, desc.fragBytes);
-  VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
-                                               {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
+  VkPipelineShaderStageCreateInfo stages[2] = {
+      {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
+      {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
   stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
   stages[0].module = vert;
   stages[0].pName = "main";

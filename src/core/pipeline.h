@@ -10,8 +10,8 @@ namespace lava {
 UniqueShaderModule createShaderModule(VkDevice device, const uint32_t* code, size_t bytes);
 
 // A compute pipeline whose workgroup size is specialization constant 0.
-UniquePipeline createComputePipeline(VkDevice device, VkPipelineLayout layout,
-                                     const uint32_t* code, size_t bytes, uint32_t workgroupSize);
+UniquePipeline createComputePipeline(VkDevice device, VkPipelineLayout layout, const uint32_t* code,
+                                     size_t bytes, uint32_t workgroupSize);
 
 struct GraphicsPipelineDesc {
   const uint32_t* vert;

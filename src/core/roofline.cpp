@@ -27,9 +27,10 @@ CopyKernel::CopyKernel(const Context& context, const Buffer& source, const Buffe
                        uint32_t particles) {
   VkDevice device = context.device();
   setLayout_ = createStorageSetLayout(device, 2, VK_SHADER_STAGE_COMPUTE_BIT);
-  layout_ = createPipelineLayout(device, setLayout_, VK_SHADER_STAGE_COMPUTE_BIT, sizeof(glm::uvec4));
-  pipeline_ =
-      createComputePipeline(device, layout_, kCopyCompSpv, sizeof(kCopyCompSpv), gpu::kWorkgroupSize);
+  layout_ =
+      createPipelineLayout(device, setLayout_, VK_SHADER_STAGE_COMPUTE_BIT, sizeof(glm::uvec4));
+  pipeline_ = createComputePipeline(device, layout_, kCopyCompSpv, sizeof(kCopyCompSpv),
+                                    gpu::kWorkgroupSize);
 
   const uint32_t perChunk = particlesPerChunk(context);
   const uint32_t chunks = (particles + perChunk - 1) / perChunk;
@@ -37,7 +38,8 @@ CopyKernel::CopyKernel(const Context& context, const Buffer& source, const Buffe
   for (uint32_t first = 0; first < particles; first += perChunk) {
     const uint32_t count = std::min(perChunk, particles - first);
     const VkDescriptorSet set = allocateSet(device, pool_, setLayout_);
-    writeStorage(device, set, 0, {source.get(), first * sizeof(Particle), count * sizeof(Particle)});
+    writeStorage(device, set, 0,
+                 {source.get(), first * sizeof(Particle), count * sizeof(Particle)});
     writeStorage(device, set, 1,
                  {destination.get(), first * sizeof(Particle), count * sizeof(Particle)});
     sets_.emplace_back(set, count);
@@ -92,7 +94,8 @@ double cpuCopySeconds(uint32_t particles, unsigned threads, int passes) {
       });
     for (std::thread& w : workers) w.join();
     if (pass >= 0)
-      times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+      times.push_back(
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
   return median(times);
 }

@@ -64,11 +64,13 @@ void SplatPass::writeSets() {
 void SplatPass::recordSplat(VkCommandBuffer commands, VkExtent2D extent, gpu::SplatParams params) {
   resize(extent);
   // WAR: the previous frame's resolve.frag read the sums this fill clears.
-  memoryBarrier(commands, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT, 0);
+  memoryBarrier(commands, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                0);
   vkCmdFillBuffer(commands, accumulation_.get(), 0, VK_WHOLE_SIZE, 0);
   // RAW/WAW: splat.comp adds atomically into the cleared sums.
   memoryBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+                VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
   vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, splatPipeline_);
   params.target.x = extent.width;
   params.target.y = extent.height;
@@ -78,11 +80,12 @@ void SplatPass::recordSplat(VkCommandBuffer commands, VkExtent2D extent, gpu::Sp
                             &splatSets_[c], 0, nullptr);
     vkCmdPushConstants(commands, splatLayout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
                        &params);
-    vkCmdDispatch(commands, (ranges_[c].second + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1, 1);
+    vkCmdDispatch(commands, (ranges_[c].second + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1,
+                  1);
   }
   // RAW: resolve.frag reads the sums splat.comp wrote.
   memoryBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-          VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+                VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
 }
 
 void SplatPass::recordResolve(VkCommandBuffer commands, const gpu::SplatParams& params) const {

@@ -23,7 +23,9 @@ std::string folderOf(const std::string& path) {
   return slash == 0 ? "/" : path.substr(0, slash);
 }
 
-float ageColumn(const gpu::Particle& p) { return p.posAge.w < 0.0f ? -1.0f : p.posAge.w; }
+float ageColumn(const gpu::Particle& p) {
+  return p.posAge.w < 0.0f ? -1.0f : p.posAge.w;
+}
 
 std::string npy(const std::vector<gpu::Particle>& particles) {
   std::string header = "{'descr': '<f4', 'fortran_order': False, 'shape': (" +
@@ -37,7 +39,7 @@ std::string npy(const std::vector<gpu::Particle>& particles) {
   out += header;
   out.reserve(out.size() + particles.size() * 7 * sizeof(float));
   for (const gpu::Particle& p : particles) {
-    const float row[7] = {p.posAge.x,  p.posAge.y,  p.posAge.z, p.velMass.x,
+    const float row[7] = {p.posAge.x,  p.posAge.y,  p.posAge.z,  p.velMass.x,
                           p.velMass.y, p.velMass.z, ageColumn(p)};
     out.append(reinterpret_cast<const char*>(row), sizeof(row));  // x86/ARM: little-endian
   }

@@ -11,7 +11,8 @@ namespace lava {
 // Throws UsageError naming `flag` unless `path` ends in .npy or .csv and its folder is writable.
 void checkStatePath(const std::string& flag, const std::string& path);
 // Throws UsageError naming `flag` unless `path` ends in `extension` and its folder is writable.
-void checkOutputPath(const std::string& flag, const std::string& path, const std::string& extension);
+void checkOutputPath(const std::string& flag, const std::string& path,
+                     const std::string& extension);
 
 void writeState(const std::string& path, const std::vector<gpu::Particle>& particles);
 

@@ -28,7 +28,8 @@ void TimestampPair::recordEnd(VkCommandBuffer commands) const {
 double TimestampPair::seconds() const {
   uint64_t stamps[2] = {0, 0};
   VK_CHECK(vkGetQueryPoolResults(context_.device(), pool_, 0, 2, sizeof(stamps), stamps,
-                                 sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+                                 sizeof(uint64_t),
+                                 VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
   return double(stamps[1] - stamps[0]) * double(context_.limits().timestampPeriod) * 1e-9;
 }
 

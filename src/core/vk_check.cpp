@@ -35,8 +35,8 @@ const char* resultName(VkResult result) {
 }
 
 VulkanError::VulkanError(VkResult result, const char* call, const char* file, int line)
-    : std::runtime_error(std::string(call) + " failed with " + resultName(result) + " at " +
-                         file + ":" + std::to_string(line)),
+    : std::runtime_error(std::string(call) + " failed with " + resultName(result) + " at " + file +
+                         ":" + std::to_string(line)),
       result_(result) {}
 
 }  // namespace lava

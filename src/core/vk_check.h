@@ -33,9 +33,9 @@ class ResourceError : public std::runtime_error {
 
 }  // namespace lava
 
-#define VK_CHECK(call)                                                 \
-  do {                                                                 \
-    VkResult lavaResult_ = (call);                                     \
-    if (lavaResult_ != VK_SUCCESS)                                     \
+#define VK_CHECK(call)                                                   \
+  do {                                                                   \
+    VkResult lavaResult_ = (call);                                       \
+    if (lavaResult_ != VK_SUCCESS)                                       \
       throw ::lava::VulkanError(lavaResult_, #call, __FILE__, __LINE__); \
   } while (0)

@@ -114,7 +114,8 @@ class Ui {
     info.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
     info.CheckVkResultFn = [](VkResult result) { VK_CHECK(result); };
     ImGui_ImplVulkan_Init(&info, renderPass);
-    context.submitNow([](VkCommandBuffer commands) { ImGui_ImplVulkan_CreateFontsTexture(commands); });
+    context.submitNow(
+        [](VkCommandBuffer commands) { ImGui_ImplVulkan_CreateFontsTexture(commands); });
     ImGui_ImplVulkan_DestroyFontUploadObjects();
   }
   ~Ui() {
@@ -152,7 +153,7 @@ class Demo {
         swapchain_(context_, surface_.handle, renderer_.renderPass(), format_, options.vsync) {
     if (!swapchain_.recreate(framebufferSize())) throw NoDisplay("the window has no area");
     renderer_.setMode(options.lines.value_or(scene_.particles >= kSplatFrom ? LineMode::Splat
-                                                                             : LineMode::Pipeline));
+                                                                            : LineMode::Pipeline));
     simulator_->advance(static_cast<uint64_t>(std::llround(options.warmup / double(scene_.dt))));
     ui_ = std::make_unique<Ui>(context_, window_.handle, renderer_.renderPass(),
                                swapchain_.imageCount());
@@ -185,7 +186,8 @@ class Demo {
     VK_CHECK(vkDeviceWaitIdle(context_.device()));
     DemoSummary summary;
     summary.frames = presented;
-    summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    summary.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     summary.size = swapchain_.extent();
     summary.device = context_.properties().deviceName;
     summary.presentMode = swapchain_.presentModeName();
@@ -235,12 +237,23 @@ class Demo {
   void exercise(uint64_t iteration) {
     const int w = int(options_.size.width), h = int(options_.size.height);
     switch (iteration) {
-      case 60: glfwSetWindowSize(window_.handle, w * 3 / 4, h * 3 / 4); break;
-      case 120: glfwSetWindowSize(window_.handle, w / 2, h / 3); break;
-      case 180: glfwIconifyWindow(window_.handle); break;
-      case 200: glfwRestoreWindow(window_.handle); break;
-      case 240: glfwSetWindowSize(window_.handle, w, h); break;
-      default: break;
+      case 60:
+        glfwSetWindowSize(window_.handle, w * 3 / 4, h * 3 / 4);
+        break;
+      case 120:
+        glfwSetWindowSize(window_.handle, w / 2, h / 3);
+        break;
+      case 180:
+        glfwIconifyWindow(window_.handle);
+        break;
+      case 200:
+        glfwRestoreWindow(window_.handle);
+        break;
+      case 240:
+        glfwSetWindowSize(window_.handle, w, h);
+        break;
+      default:
+        break;
     }
   }
 
@@ -286,7 +299,8 @@ class Demo {
         camera_.yaw -= io.MouseDelta.x * 0.006f;
         camera_.pitch = std::clamp(camera_.pitch + io.MouseDelta.y * 0.006f, -0.05f, 1.5f);
       }
-      if (ImGui::IsMouseDragging(ImGuiMouseButton_Right)) camera_.target.y += io.MouseDelta.y * 0.01f;
+      if (ImGui::IsMouseDragging(ImGuiMouseButton_Right))
+        camera_.target.y += io.MouseDelta.y * 0.01f;
       camera_.distance = std::clamp(camera_.distance * std::pow(0.9f, io.MouseWheel), 0.5f, 60.0f);
     }
   }
@@ -338,7 +352,8 @@ class Demo {
     simulator_->setScene(scene_);
 
     ImGui::InputInt("particles", &pendingParticles_, 1024, 65536);
-    pendingParticles_ = std::clamp(pendingParticles_, 1, int(std::min<uint64_t>(maxParticles(context_), 1u << 30)));
+    pendingParticles_ =
+        std::clamp(pendingParticles_, 1, int(std::min<uint64_t>(maxParticles(context_), 1u << 30)));
     ImGui::SameLine();
     if (ImGui::Button("restart")) restart_ = true;
     ImGui::TextDisabled("drag: orbit  right-drag: height  wheel: zoom  H: hide");
@@ -420,8 +435,9 @@ class Demo {
       simulator_->recordSteps(commands, first, steps);
     }
     vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, queries_, query + 1);
-    renderer_.record(commands, swapchain_.framebuffer(image), swapchain_.extent(), camera_, scene_,
-                     [](VkCommandBuffer c) { ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), c); });
+    renderer_.record(
+        commands, swapchain_.framebuffer(image), swapchain_.extent(), camera_, scene_,
+        [](VkCommandBuffer c) { ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), c); });
     vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, query + 2);
     VK_CHECK(vkEndCommandBuffer(commands));
 

@@ -26,11 +26,11 @@ constexpr uint32_t kSplatFrom = 16384;
 struct DemoOptions {
   Scene scene;
   VkExtent2D size{1280, 720};
-  uint32_t frames = 0;  // exit after this many presented frames; 0: until the window closes
-  bool vsync = false;   // FIFO presentation; else mailbox or immediate when offered
+  uint32_t frames = 0;    // exit after this many presented frames; 0: until the window closes
+  bool vsync = false;     // FIFO presentation; else mailbox or immediate when offered
   bool exercise = false;  // resize, minimise and restore the window on a schedule (tests)
-  std::optional<LineMode> lines;     // unset: splat from kSplatFrom particles, else lines
-  double warmup = 0.0;               // seconds simulated before the first frame
+  std::optional<LineMode> lines;  // unset: splat from kSplatFrom particles, else lines
+  double warmup = 0.0;            // seconds simulated before the first frame
   std::optional<unsigned> device;
   bool validation = false;
 };

@@ -9,7 +9,8 @@ namespace lava {
 
 VkSurfaceFormatKHR Swapchain::chooseFormat(const Context& context, VkSurfaceKHR surface) {
   uint32_t count = 0;
-  VK_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(context.physicalDevice(), surface, &count, nullptr));
+  VK_CHECK(
+      vkGetPhysicalDeviceSurfaceFormatsKHR(context.physicalDevice(), surface, &count, nullptr));
   std::vector<VkSurfaceFormatKHR> formats(count);
   VK_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(context.physicalDevice(), surface, &count,
                                                 formats.data()));
@@ -75,8 +76,10 @@ bool Swapchain::recreate(VkExtent2D framebufferSize) {
   VK_CHECK(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(context_.physicalDevice(), surface_, &caps));
   VkExtent2D extent = caps.currentExtent;
   if (extent.width == UINT32_MAX) {
-    extent.width = std::clamp(framebufferSize.width, caps.minImageExtent.width, caps.maxImageExtent.width);
-    extent.height = std::clamp(framebufferSize.height, caps.minImageExtent.height, caps.maxImageExtent.height);
+    extent.width =
+        std::clamp(framebufferSize.width, caps.minImageExtent.width, caps.maxImageExtent.width);
+    extent.height =
+        std::clamp(framebufferSize.height, caps.minImageExtent.height, caps.maxImageExtent.height);
   }
   if (extent.width == 0 || extent.height == 0) return false;  // minimised: nothing to draw into
 
@@ -111,7 +114,8 @@ bool Swapchain::recreate(VkExtent2D framebufferSize) {
                        VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
   for (VkImage image : images_) {
     views_.push_back(createImageView(device, image, format_.format, VK_IMAGE_ASPECT_COLOR_BIT));
-    framebuffers_.push_back(createFramebuffer(device, renderPass_, views_.back(), depth_.view, extent));
+    framebuffers_.push_back(
+        createFramebuffer(device, renderPass_, views_.back(), depth_.view, extent));
 
     VkSemaphoreCreateInfo semaphoreInfo{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
     VkSemaphore semaphore = VK_NULL_HANDLE;
