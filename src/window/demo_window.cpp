@@ -202,6 +202,7 @@ class Demo {
 
  private:
   VkExtent2D framebufferSize() const {
+    if (minimisedByExercise_) return {0, 0};
     int w = 0, h = 0;
     glfwGetFramebufferSize(window_.handle, &w, &h);
     return {uint32_t(std::max(w, 0)), uint32_t(std::max(h, 0))};
@@ -244,10 +245,16 @@ class Demo {
         glfwSetWindowSize(window_.handle, w / 2, h / 3);
         break;
       case 180:
+        // Without a window manager (bare Xvfb) iconifying changes nothing, so the exercise
+        // also reports the 0x0 framebuffer a minimised window has on other systems.
         glfwIconifyWindow(window_.handle);
+        minimisedByExercise_ = true;
+        resized_ = true;
         break;
       case 200:
         glfwRestoreWindow(window_.handle);
+        minimisedByExercise_ = false;
+        resized_ = true;
         break;
       case 240:
         glfwSetWindowSize(window_.handle, w, h);
@@ -391,6 +398,7 @@ class Demo {
 
   // One frame: simulate, draw, present. False when nothing could be drawn (minimised).
   bool drawFrame(double frameSeconds) {
+    if (minimisedByExercise_ || glfwGetWindowAttrib(window_.handle, GLFW_ICONIFIED)) return false;
     if (resized_) {
       if (!swapchain_.recreate(framebufferSize())) return false;
       ImGui_ImplVulkan_SetMinImageCount(2);
@@ -486,6 +494,7 @@ class Demo {
   OrbitCamera camera_;
   uint64_t frame_ = 0;
   bool resized_ = false;
+  bool minimisedByExercise_ = false;
   bool paused_ = false, stepOnce_ = false, reset_ = false, restart_ = false, screenshot_ = false;
   bool showUi_ = true;
   float speed_ = 1.0f;
