@@ -285,6 +285,20 @@ TEST(Environment, CpuBackendNeedsNoVulkan) {
   EXPECT_EQ(r.status, 0) << r.err;
 }
 
+TEST(Render, VideoEncodesWithFfmpegOrSaysItIsMissing) {
+  const std::string folder = scratch("video"), clip = scratch("video.mp4");
+  const bool ffmpeg = std::system("command -v ffmpeg >/dev/null 2>&1") == 0;
+  const Result r = lava("render --frames 4 --size 64x48 --out " + folder + " --video " + clip);
+  if (ffmpeg) {  // ffmpeg is not a dependency: both behaviours are the contract
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_GT(readFile(clip).size(), 100u);
+  } else {
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.err.find("--video"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("ffmpeg"), std::string::npos) << r.err;
+  }
+}
+
 TEST(Info, ListsTheDeviceAndTheLargestParticleCount) {
   const Result r = lava("info");
   EXPECT_EQ(r.status, 0) << r.err;
