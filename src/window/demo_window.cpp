@@ -21,6 +21,7 @@
 #include "line_renderer.h"
 #include "offscreen_target.h"
 #include "swapchain.h"
+#include "ui.h"
 #include "vk_check.h"
 
 namespace lava {
@@ -83,55 +84,6 @@ ContextOptions windowContextOptions(const DemoOptions& options) {
   return context;
 }
 
-// Dear ImGui over GLFW and Vulkan, drawing inside the LineRenderer's render pass.
-class Ui {
- public:
-  Ui(Context& context, GLFWwindow* window, VkRenderPass renderPass, uint32_t imageCount)
-      : device_(context.device()) {
-    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4};
-    VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    poolInfo.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
-    poolInfo.maxSets = 4;
-    poolInfo.poolSizeCount = 1;
-    poolInfo.pPoolSizes = &size;
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateDescriptorPool(device_, &poolInfo, nullptr, &pool));
-    pool_ = UniqueDescriptorPool(device_, pool);
-
-    ImGui::CreateContext();
-    ImGui::GetIO().IniFilename = nullptr;
-    ImGui::StyleColorsDark();
-    ImGui_ImplGlfw_InitForVulkan(window, true);
-    ImGui_ImplVulkan_InitInfo info{};
-    info.Instance = context.instance();
-    info.PhysicalDevice = context.physicalDevice();
-    info.Device = device_;
-    info.QueueFamily = context.queueFamily();
-    info.Queue = context.queue();
-    info.DescriptorPool = pool;
-    info.MinImageCount = 2;
-    info.ImageCount = std::max(imageCount, 2u);
-    info.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
-    info.CheckVkResultFn = [](VkResult result) { VK_CHECK(result); };
-    ImGui_ImplVulkan_Init(&info, renderPass);
-    context.submitNow(
-        [](VkCommandBuffer commands) { ImGui_ImplVulkan_CreateFontsTexture(commands); });
-    ImGui_ImplVulkan_DestroyFontUploadObjects();
-  }
-  ~Ui() {
-    vkDeviceWaitIdle(device_);
-    ImGui_ImplVulkan_Shutdown();
-    ImGui_ImplGlfw_Shutdown();
-    ImGui::DestroyContext();
-  }
-  Ui(const Ui&) = delete;
-  Ui& operator=(const Ui&) = delete;
-
- private:
-  VkDevice device_;
-  UniqueDescriptorPool pool_;
-};
-
 struct FrameSlot {
   VkCommandBuffer commands = VK_NULL_HANDLE;
   UniqueFence inFlight;
@@ -141,7 +93,7 @@ struct FrameSlot {
 
 class Demo {
  public:
-  Demo(const DemoOptions& options)
+  explicit Demo(const DemoOptions& options)
       : options_(options),
         scene_(options.scene),
         window_(options.size),
