@@ -103,12 +103,13 @@ void main() {
 
   precise float h = p.velocity.w;
   precise float g = p.spread.w;
-  precise float hm = h / m;  // the same quotient the reference computes every step
+  precise float hm = h / m;                    // the same quotient and product the
+  precise float weight = p.wind.y - m * g;     // reference computes every step
   for (uint s = first; s < steps; ++s) {
     // Explicit Euler: position with the start-of-step velocity, then velocity.
     precise vec3 v0 = v;
     x = x + h * v0;
-    precise vec3 f = vec3(p.wind.x, p.wind.y - m * g, p.wind.z) - p.wind.w * v0;
+    precise vec3 f = vec3(p.wind.x, weight, p.wind.z) - p.wind.w * v0;
     v = v0 + hm * f;
     age = age + h;
     // Ground impulse (seed eq. 7) with tangential damping and static friction.
