@@ -17,8 +17,10 @@ using mat4 = glm::mat4;
 #define LAVA_FN
 #endif
 
-// Invocations per compute workgroup (one particle each).
+// Invocations per compute workgroup of every compute shader.
 const uint kWorkgroupSize = 64u;
+// Particles one step.comp invocation advances, interleaved (its main() spells out four).
+const uint kParticlesPerInvocation = 4u;
 // Descriptor bindings of the simulation and drawing pipelines.
 const uint kParticleBinding = 0u;
 const uint kScheduleBinding = 1u;

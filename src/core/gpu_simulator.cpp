@@ -151,7 +151,9 @@ void GpuSimulator::recordSteps(VkCommandBuffer commands, uint32_t first, uint32_
                               &chunk.set, 0, nullptr);
       vkCmdPushConstants(commands, pipelineLayout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
                          &params);
-      vkCmdDispatch(commands, (chunk.count + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1, 1);
+      const uint32_t invocations =
+          (chunk.count + gpu::kParticlesPerInvocation - 1) / gpu::kParticlesPerInvocation;
+      vkCmdDispatch(commands, (invocations + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1, 1);
     }
   }
 }
