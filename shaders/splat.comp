@@ -36,9 +36,10 @@ void main() {
   uint n = min(uint(max(abs(d.x), abs(d.y))), kMaxPixels - 1u) + 1u;
   vec3 c = lavaColor(v, q.posAge.w, s.style);
   uint add = (uint(c.r * kSplatScale + 0.5) << 16) | uint(c.g * kSplatScale + 0.5);
-  for (uint k = 0u; k < n; ++k) {
-    ivec2 p = ivec2(floor(pa + d * (float(k) / float(n))));
-    if (p.x < 0 || p.y < 0 || p.x >= int(s.target.x) || p.y >= int(s.target.y)) continue;
-    atomicAdd(accumulation[uint(p.y) * s.target.x + uint(p.x)], add);
+  vec2 step = d / float(n);
+  vec2 at = pa;
+  for (uint k = 0u; k < n; ++k, at += step) {
+    uvec2 p = uvec2(ivec2(floor(at)));  // negative wraps to huge: one unsigned test per axis
+    if (p.x < s.target.x && p.y < s.target.y) atomicAdd(accumulation[p.y * s.target.x + p.x], add);
   }
 }
