@@ -62,7 +62,7 @@ GpuSimulator::GpuSimulator(Context& context, const Scene& scene)
     chunks_.push_back({first, std::min(perChunk, scene.particles - first), VK_NULL_HANDLE});
   const uint32_t chunkCount = static_cast<uint32_t>(chunks_.size());
   descriptorPool_ = createStoragePool(device, chunkCount, 2 * chunkCount);
-  for (Chunk& chunk : chunks_) {
+  for (ParticleChunk& chunk : chunks_) {
     chunk.set = allocateSet(device, descriptorPool_, setLayout_);
     writeStorage(device, chunk.set, gpu::kParticleBinding,
                  {particles_.get(), chunk.first * kParticleBytes, chunk.count * kParticleBytes});
@@ -145,7 +145,7 @@ void GpuSimulator::recordSteps(VkCommandBuffer commands, uint32_t first, uint32_
                   VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
     params.run.z = first + done;
     params.run.w = steps;
-    for (const Chunk& chunk : chunks_) {
+    for (const ParticleChunk& chunk : chunks_) {
       params.chunk = {chunk.first, chunk.count, 0u, 0u};
       vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_, 0, 1,
                               &chunk.set, 0, nullptr);
@@ -160,7 +160,7 @@ void GpuSimulator::recordSteps(VkCommandBuffer commands, uint32_t first, uint32_
 
 std::vector<std::pair<uint32_t, uint32_t>> GpuSimulator::chunkRanges() const {
   std::vector<std::pair<uint32_t, uint32_t>> ranges;
-  for (const Chunk& chunk : chunks_) ranges.emplace_back(chunk.first, chunk.count);
+  for (const ParticleChunk& chunk : chunks_) ranges.emplace_back(chunk.first, chunk.count);
   return ranges;
 }
 

@@ -10,6 +10,13 @@
 
 namespace lava {
 
+// One binding's range of the particle buffer and the descriptor set that binds it.
+struct ParticleChunk {
+  uint32_t first;  // first particle of the range
+  uint32_t count;  // particles in it
+  VkDescriptorSet set;
+};
+
 // Particles one binding and one dispatch can cover on this device (a workgroup multiple).
 uint32_t particlesPerChunk(const Context& context);
 // Largest particle count this device allows (one allocation for the particles).
@@ -42,12 +49,6 @@ class GpuSimulator final : public Simulator {
   static constexpr uint32_t kStepsPerSubmit = 4096;
 
  private:
-  struct Chunk {
-    uint32_t first;
-    uint32_t count;
-    VkDescriptorSet set;
-  };
-
   Context& context_;
   EmissionClock clock_;
   Buffer particles_;
@@ -57,7 +58,7 @@ class GpuSimulator final : public Simulator {
   UniquePipelineLayout pipelineLayout_;
   UniquePipeline pipeline_;
   UniqueDescriptorPool descriptorPool_;
-  std::vector<Chunk> chunks_;
+  std::vector<ParticleChunk> chunks_;
   std::vector<uint64_t> planned_;
   uint32_t stepsPerDispatch_ =
       kStepsPerDispatch;  // births before each planned entry (host copy of sums.x)

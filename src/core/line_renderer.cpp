@@ -159,7 +159,7 @@ void LineRenderer::record(VkCommandBuffer commands, VkFramebuffer framebuffer, V
     splat_.recordResolve(commands, splat);
   } else {
     vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, linePipeline_);
-    for (const Chunk& chunk : chunks_) {
+    for (const ParticleChunk& chunk : chunks_) {
       params.chunk = {chunk.first, 0u, 0u, 0u};
       vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout_, 0, 1,
                               &chunk.set, 0, nullptr);

@@ -37,12 +37,6 @@ class LineRenderer {
               const std::function<void(VkCommandBuffer)>& overlay = {});
 
  private:
-  struct Chunk {
-    uint32_t first;
-    uint32_t count;
-    VkDescriptorSet set;
-  };
-
   Context& context_;
   UniqueRenderPass renderPass_;
   UniqueDescriptorSetLayout setLayout_;
@@ -50,7 +44,7 @@ class LineRenderer {
   UniquePipeline groundPipeline_;
   UniquePipeline linePipeline_;
   UniqueDescriptorPool descriptorPool_;
-  std::vector<Chunk> chunks_;
+  std::vector<ParticleChunk> chunks_;
   SplatPass splat_;
   LineMode mode_ = LineMode::Pipeline;
 };
