@@ -192,6 +192,20 @@ TEST(SceneFile, SetsValuesAndTheCommandLineWins) {
   EXPECT_EQ(npyRows(out), 200u);
 }
 
+TEST(SceneFile, OneSceneServesEveryCommand) {
+  // `steps` belongs to simulate/validate/bench, `frames` to render/demo: each command uses
+  // its own keys and passes over the others' (a typo is still an unknown key).
+  const std::string scene = writeScene("shared.toml", "particles = 300\nsteps = 20\nframes = 2\n"
+                                                      "size = \"64x48\"\n");
+  const std::string out = scratch("shared.npy"), frames = scratch("shared-frames");
+  Result r = lava("simulate --scene " + scene + " --out " + out);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(npyRows(out), 300u);
+  r = lava("render --scene " + scene + " --out " + frames);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("wrote 2 frames (64x48)"), std::string::npos) << r.out;
+}
+
 TEST(Simulate, GpuAndCpuBackendsWriteIdenticalFiles) {
   const std::string gpu = scratch("gpu.npy"), cpu = scratch("cpu.csv"), cpuNpy = scratch("cpu.npy");
   ASSERT_EQ(lava("simulate --steps 1500 --backend gpu --out " + gpu).status, 0);

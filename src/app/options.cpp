@@ -111,8 +111,14 @@ Options::Options(CLI::App& command) : command_(command) {
                       "TOML scene file; keys are flag names without '--' (flags win)");
 }
 
+std::set<std::string>& Options::everyKey() {
+  static std::set<std::string> keys;
+  return keys;
+}
+
 void Options::add(const std::string& name, Kind kind, const std::string& help, Apply apply,
                   bool required) {
+  everyKey().insert(name);
   auto* flag = command_.add_option("--" + name, given_[name], help);
   if (kind == Kind::Vector)
     flag->type_name("X,Y,Z");
@@ -145,6 +151,7 @@ std::map<std::string, std::string> Options::readScene() const {
     auto spec =
         std::find_if(specs_.begin(), specs_.end(), [&](const Spec& s) { return s.name == name; });
     if (spec == specs_.end()) {
+      if (everyKey().count(name)) continue;  // another command's flag: one scene serves all
       std::string known;
       for (const Spec& s : specs_) known += (known.empty() ? "" : ", ") + s.name;
       throw UsageError(source + ": unknown key (accepted: " + known + ")");

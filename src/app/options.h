@@ -7,6 +7,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,8 @@ class Options {
     CLI::Option* flag;
   };
   std::map<std::string, std::string> readScene() const;
+  // The flags of every command: a scene file may hold keys of commands other than this one.
+  static std::set<std::string>& everyKey();
 
   CLI::App& command_;
   std::vector<Spec> specs_;
