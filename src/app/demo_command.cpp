@@ -72,9 +72,11 @@ class DemoCommand final : public Command {
                                                                           : LineMode::Pipeline);
     plan.warmup = demo_.warmup;
     Context context(contextOptions(demo_.device));
-    renderFrames(context, demo_.scene, plan);
-    std::printf("demo: wrote %u headless frames (%ux%u) to %s/frame_*.png\n", plan.frames,
-                plan.size.width, plan.size.height, plan.folder.c_str());
+    const double seconds = renderFrames(context, demo_.scene, plan);
+    std::printf("demo: %u headless frames in %.2f s, average %.1f fps (%ux%u, %u particles); "
+                "wrote %s/frame_*.png\n",
+                plan.frames, seconds, seconds > 0 ? plan.frames / seconds : 0.0, plan.size.width,
+                plan.size.height, demo_.scene.particles, plan.folder.c_str());
     return finish(context, 0);
   }
 

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -44,7 +45,7 @@ std::string outputFolder(const std::string& source, const std::string& path) {
   return path;
 }
 
-void renderFrames(Context& context, const Scene& scene, const FramePlan& plan) {
+double renderFrames(Context& context, const Scene& scene, const FramePlan& plan) {
   checkSize(context, plan.size);
   GpuSimulator simulator(context, scene);
   LineRenderer renderer(context, simulator, OffscreenTarget::kColorFormat,
@@ -56,6 +57,7 @@ void renderFrames(Context& context, const Scene& scene, const FramePlan& plan) {
   const double stepsPerFrame = 1.0 / (plan.fps * double(scene.dt));
   double owed = 0.0;
   Progress progress("render", plan.frames);
+  const auto start = std::chrono::steady_clock::now();
   for (uint32_t frame = 0; frame < plan.frames; ++frame) {
     if (frame > 0) {
       owed += stepsPerFrame;
@@ -70,6 +72,7 @@ void renderFrames(Context& context, const Scene& scene, const FramePlan& plan) {
     writePng(plan.folder + name, plan.size.width, plan.size.height, pixels);
     progress.update(frame + 1);
   }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace lava::app

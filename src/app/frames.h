@@ -26,6 +26,7 @@ void checkSize(const Context& context, VkExtent2D size);
 // Creates `path` if missing; throws UsageError naming `source` unless it is a writable folder.
 std::string outputFolder(const std::string& source, const std::string& path);
 
-void renderFrames(Context& context, const Scene& scene, const FramePlan& plan);
+// Returns the wall-clock seconds the frames took (simulation, drawing and PNG writing).
+double renderFrames(Context& context, const Scene& scene, const FramePlan& plan);
 
 }  // namespace lava::app
