@@ -1,16 +1,15 @@
 // `lava validate`: the same scene on the GPU and on the CPU reference, compared at
-// checkpoints; on a difference, replays the last agreeing interval step by step to name
-// the first divergent step.
+// checkpoints (src/core/validation.h), printed as a table.
 #include <cstdio>
 #include <optional>
 
 #include "commands.h"
-#include "compare.h"
 #include "cpu_simulator.h"
 #include "gpu_simulator.h"
 #include "options.h"
 #include "runtime.h"
 #include "state_io.h"
+#include "validation.h"
 #include "vk_check.h"
 
 namespace lava::app {
@@ -56,59 +55,33 @@ class ValidateCommand final : public Command {
                 "max|dv| (m/s)", "max ULP");
     std::string table = "step,equal,particles,max_dx,max_dv,max_ulp\n";
 
-    SimState agreed = cpu.state();  // the last checkpoint where both were bitwise equal
-    std::optional<uint64_t> firstDivergent;
-    bool pass = true;
-    for (uint64_t step = 0; step < steps_;) {
-      const uint64_t batch = std::min(every_, steps_ - step);
-      gpu.advance(batch);
-      cpu.advance(batch);
-      step += batch;
-      const SimState reference = cpu.state();
-      const Comparison c = compare(gpu.state().particles, reference.particles);
-      char row[160];
-      std::snprintf(row, sizeof(row), "%10llu %10llu / %-8llu %14.6g %14.6g %10u\n",
-                    static_cast<unsigned long long>(step), static_cast<unsigned long long>(c.equal),
-                    static_cast<unsigned long long>(c.particles), c.maxDx, c.maxDv, c.maxUlp);
-      std::fputs(row, stdout);
-      std::snprintf(row, sizeof(row), "%llu,%llu,%llu,%.9g,%.9g,%u\n",
-                    static_cast<unsigned long long>(step), static_cast<unsigned long long>(c.equal),
-                    static_cast<unsigned long long>(c.particles), c.maxDx, c.maxDv, c.maxUlp);
-      table += row;
-      pass = pass && c.maxUlp <= tolerance_;
-      if (c.equal == c.particles) {
-        agreed = reference;
-      } else if (!firstDivergent) {
-        firstDivergent = findFirstDivergence(gpu, cpu, agreed, step);
-        gpu.load(reference);  // both continue from the same state after the replay
-        cpu.load(reference);
-      }
-    }
+    const ValidationReport report =
+        validateBackends(gpu, cpu, steps_, every_, tolerance_, [&](const Checkpoint& point) {
+          const Comparison& c = point.comparison;
+          char row[160];
+          std::snprintf(row, sizeof(row), "%10llu %10llu / %-8llu %14.6g %14.6g %10u\n",
+                        static_cast<unsigned long long>(point.step),
+                        static_cast<unsigned long long>(c.equal),
+                        static_cast<unsigned long long>(c.particles), c.maxDx, c.maxDv, c.maxUlp);
+          std::fputs(row, stdout);
+          std::snprintf(row, sizeof(row), "%llu,%llu,%llu,%.9g,%.9g,%u\n",
+                        static_cast<unsigned long long>(point.step),
+                        static_cast<unsigned long long>(c.equal),
+                        static_cast<unsigned long long>(c.particles), c.maxDx, c.maxDv, c.maxUlp);
+          table += row;
+        });
     if (!csv_.empty()) writeFileAtomically(csv_, table);
-    if (firstDivergent)
-      std::printf("first divergent step: %llu\n", static_cast<unsigned long long>(*firstDivergent));
+    if (report.firstDivergentStep)
+      std::printf("first divergent step: %llu\n",
+                  static_cast<unsigned long long>(*report.firstDivergentStep));
     else
       std::printf("first divergent step: none (bit-exact over %llu steps)\n",
                   static_cast<unsigned long long>(steps_));
-    std::printf("validate: %s\n", pass ? "PASS" : "FAIL");
-    return finish(context, pass ? 0 : 1);
+    std::printf("validate: %s\n", report.pass ? "PASS" : "FAIL");
+    return finish(context, report.pass ? 0 : 1);
   }
 
  private:
-  // Replays from `agreed` one step at a time until the backends differ (at most to `limit`).
-  static uint64_t findFirstDivergence(Simulator& gpu, Simulator& cpu, const SimState& agreed,
-                                      uint64_t limit) {
-    gpu.load(agreed);
-    cpu.load(agreed);
-    for (uint64_t step = agreed.clock.steps + 1; step <= limit; ++step) {
-      gpu.advance(1);
-      cpu.advance(1);
-      const Comparison c = compare(gpu.state().particles, cpu.state().particles);
-      if (c.equal != c.particles) return step;
-    }
-    return limit;
-  }
-
   Options options_;
   Scene scene_;
   std::optional<unsigned> device_;
