@@ -1,18 +1,49 @@
 #!/usr/bin/env bash
-# The demo in a real window under Xvfb on lavapipe, with each line renderer: hundreds of
-# frames with resizes, a minimise and a restore (--exercise), validation and
-# synchronization validation on (any message makes lava exit 1). Passes on exit 0 and the
-# summary line.
+# The demo in a real window under Xvfb on lavapipe, validation and synchronization
+# validation on (any message makes lava exit 1):
+# 1. each line renderer for 400 frames with resizes, a minimise and a restore (--exercise);
+# 2. the keyboard: P (screenshot), Space (pause), N (step), R (reset), H (hide the panel)
+#    and Esc (quit), typed with xdotool into the focused window; the screenshot must appear.
 set -u
 lava=$1
+screen="-screen 0 1600x1000x24"
+
+summary() {  # the demo's own summary line, or fail
+  echo "$1" | grep -Eq "^demo: $2 frames in [0-9.]+ s, average [0-9.]+ fps" ||
+    { echo "FAIL: no summary line"; exit 1; }
+  echo "$1" | grep -q 'rendering headless' && { echo "FAIL: no window was opened"; exit 1; }
+}
+
 for renderer in lines splat; do
-  out=$(xvfb-run -a -s "-screen 0 1600x1000x24" "$lava" demo --frames 400 --size 800x450 \
+  out=$(xvfb-run -a -s "$screen" "$lava" demo --frames 400 --size 800x450 \
         --exercise --renderer "$renderer" --particles 20000 --rate 4000 2>&1)
   status=$?
   echo "$renderer: $out"
   [ $status -eq 0 ] || { echo "FAIL: lava demo --renderer $renderer exited $status"; exit 1; }
-  echo "$out" | grep -Eq '^demo: 400 frames in [0-9.]+ s, average [0-9.]+ fps' ||
-    { echo "FAIL: no summary line"; exit 1; }
-  echo "$out" | grep -q 'rendering headless' && { echo "FAIL: no window was opened"; exit 1; }
+  summary "$out" 400
 done
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cat > "$work/keys.sh" <<KEYS
+cd "$work"
+timeout 120 "$lava" demo --size 640x360 > demo.txt 2>&1 &
+pid=\$!
+for i in \$(seq 1 100); do
+  window=\$(xdotool search --name '^Lava\$' 2>/dev/null | head -1)
+  [ -n "\$window" ] && break
+  sleep 0.1
+done
+xdotool windowfocus --sync "\$window"
+for key in p space n r space h Escape; do xdotool key "\$key"; sleep 0.2; done
+wait \$pid
+KEYS
+xvfb-run -a -s "$screen" bash "$work/keys.sh"
+status=$?
+out=$(cat "$work/demo.txt")
+echo "keys: $out"
+[ $status -eq 0 ] || { echo "FAIL: lava demo with keys exited $status"; exit 1; }
+summary "$out" '[0-9]+'
+[ -s "$work/lava-screenshot-000.png" ] || { echo "FAIL: P saved no screenshot"; exit 1; }
+echo "$out" | grep -q 'saved lava-screenshot-000.png' || { echo "FAIL: no screenshot message"; exit 1; }
 exit 0

@@ -9,7 +9,7 @@ packages=(
   glslang-tools spirv-tools
   libglfw3-dev libglm-dev libgtest-dev
   libcli11-dev libtomlplusplus-dev libstb-dev libimgui-dev
-  xvfb xauth
+  xvfb xauth xdotool
 )
 
 missing=()
