@@ -35,7 +35,13 @@ for i in \$(seq 1 100); do
   sleep 0.1
 done
 xdotool windowfocus --sync "\$window"
-for key in p space n r space h Escape; do xdotool key "\$key"; sleep 0.2; done
+sleep 0.5
+for i in \$(seq 1 20); do  # P until the screenshot appears (the first keys may come early)
+  xdotool key p
+  sleep 0.25
+  [ -s lava-screenshot-000.png ] && break
+done
+for key in space n r space h Escape; do xdotool key "\$key"; sleep 0.2; done
 wait \$pid
 KEYS
 xvfb-run -a -s "$screen" bash "$work/keys.sh"

@@ -133,7 +133,8 @@ class Demo {
         continue;
       }
       fps_ = fps_ * 0.9 + 0.1 / std::max(frameSeconds, 1e-6);
-      if (options_.frames && ++presented >= options_.frames) break;
+      ++presented;
+      if (options_.frames && presented >= options_.frames) break;
     }
     VK_CHECK(vkDeviceWaitIdle(context_.device()));
     DemoSummary summary;
