@@ -29,11 +29,8 @@ cat > "$work/keys.sh" <<KEYS
 cd "$work"
 timeout 120 "$lava" demo --size 640x360 > demo.txt 2>&1 &
 pid=\$!
-for i in \$(seq 1 100); do
-  window=\$(xdotool search --name '^Lava\$' 2>/dev/null | head -1)
-  [ -n "\$window" ] && break
-  sleep 0.1
-done
+window=\$(timeout 60 xdotool search --sync --name '^Lava\$' 2>/dev/null | head -1)
+if [ -z "\$window" ]; then echo "no Lava window appeared" >> demo.txt; kill \$pid; exit 1; fi
 xdotool windowfocus --sync "\$window"
 sleep 0.5
 for i in \$(seq 1 20); do  # P until the screenshot appears (the first keys may come early)
