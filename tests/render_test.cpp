@@ -57,10 +57,34 @@ class RenderTest : public test::VulkanTest {
     return Particle{glm::vec4(x, age), glm::vec4(v, 1.0f)};
   }
 
+  // The brightest pixels of a slow (0.4 m/s) and a fast (12 m/s) line on the sky.
+  std::pair<std::array<int, 3>, std::array<int, 3>> slowAndFast(LineMode mode);
+  // The default scene after 3 s, drawn with `mode`.
+  std::vector<uint8_t> renderDefaultScene(LineMode mode);
+
   OrbitCamera camera_;
 };
 
 const glm::vec3 kSkyPoint{0.0f, 2.6f, 0.0f};  // above the horizon: only the clear color behind
+
+std::pair<std::array<int, 3>, std::array<int, 3>> RenderTest::slowAndFast(LineMode mode) {
+  const glm::vec3 slow{0.4f, 0.0f, 0.0f}, fast{12.0f, 0.0f, 0.0f};
+  return {brightestNear(render({particle(kSkyPoint, slow, 0.0f)}, mode),
+                        project(kSkyPoint + 0.5f * 0.3f * slow)),
+          brightestNear(render({particle(kSkyPoint, fast, 0.0f)}, mode),
+                        project(kSkyPoint + 0.05f * 0.3f * fast))};
+}
+
+std::vector<uint8_t> RenderTest::renderDefaultScene(LineMode mode) {
+  Scene scene;
+  GpuSimulator simulator(context(), scene);
+  simulator.advance(3000);
+  LineRenderer renderer(context(), simulator, OffscreenTarget::kColorFormat,
+                        VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+  renderer.setMode(mode);
+  OffscreenTarget target(context(), renderer.renderPass(), kSize);
+  return renderOffscreen(context(), renderer, target, camera_, scene);
+}
 
 TEST_F(RenderTest, SlowParticleLineIsOrangeOnTheSky) {
   const glm::vec3 v{0.8f, 0.0f, 0.0f};
@@ -75,11 +99,7 @@ TEST_F(RenderTest, SlowParticleLineIsOrangeOnTheSky) {
 }
 
 TEST_F(RenderTest, ColorMovesTowardRedWithSpeed) {
-  const glm::vec3 slow{0.4f, 0.0f, 0.0f}, fast{12.0f, 0.0f, 0.0f};
-  const auto a = brightestNear(render({particle(kSkyPoint, slow, 0.0f)}),
-                               project(kSkyPoint + 0.5f * 0.3f * slow));
-  const auto b = brightestNear(render({particle(kSkyPoint, fast, 0.0f)}),
-                               project(kSkyPoint + 0.05f * 0.3f * fast));
+  const auto [a, b] = slowAndFast(LineMode::Pipeline);
   ASSERT_GT(a[0], 100);
   ASSERT_GT(b[0], 100);
   EXPECT_GT(double(a[1]) / a[0], 0.4);   // orange
@@ -116,30 +136,20 @@ TEST_F(RenderTest, SplatDrawsTheSameLineInTheSameColor) {
 }
 
 TEST_F(RenderTest, SplatMovesTowardRedWithSpeedAndDrawsNoUnbornSlot) {
-  const glm::vec3 slow{0.4f, 0.0f, 0.0f}, fast{12.0f, 0.0f, 0.0f};
-  const auto a = brightestNear(render({particle(kSkyPoint, slow, 0.0f)}, LineMode::Splat),
-                               project(kSkyPoint + 0.5f * 0.3f * slow));
-  const auto b = brightestNear(render({particle(kSkyPoint, fast, 0.0f)}, LineMode::Splat),
-                               project(kSkyPoint + 0.05f * 0.3f * fast));
+  const auto [a, b] = slowAndFast(LineMode::Splat);
   ASSERT_GT(a[0], 100);
   ASSERT_GT(b[0], 100);
   EXPECT_GT(double(a[1]) / a[0], 0.4);
   EXPECT_LT(double(b[1]) / b[0], 0.15);
-  std::vector<Particle> unborn(300, particle(kSkyPoint, slow, -1.0f));
+  const glm::vec3 v{0.4f, 0.0f, 0.0f};
+  std::vector<Particle> unborn(300, particle(kSkyPoint, v, -1.0f));
   EXPECT_EQ(render(unborn, LineMode::Splat),
-            render({particle(kSkyPoint, slow, -1.0f)}, LineMode::Splat));
+            render({particle(kSkyPoint, v, -1.0f)}, LineMode::Splat));
 }
 
 TEST_F(RenderTest, SplatAndPipelineLightTheSamePixels) {
-  Scene scene;
-  GpuSimulator simulator(context(), scene);
-  simulator.advance(3000);
-  LineRenderer renderer(context(), simulator, OffscreenTarget::kColorFormat,
-                        VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
-  OffscreenTarget target(context(), renderer.renderPass(), kSize);
-  const auto lines = renderOffscreen(context(), renderer, target, camera_, scene);
-  renderer.setMode(LineMode::Splat);
-  const auto splat = renderOffscreen(context(), renderer, target, camera_, scene);
+  const auto lines = renderDefaultScene(LineMode::Pipeline);
+  const auto splat = renderDefaultScene(LineMode::Splat);
   size_t litLines = 0, litBoth = 0;
   for (size_t i = 0; i < lines.size(); i += 4) {
     const bool a = lines[i] > 100, b = splat[i] > 100;
@@ -151,13 +161,7 @@ TEST_F(RenderTest, SplatAndPipelineLightTheSamePixels) {
 }
 
 TEST_F(RenderTest, DefaultSceneLightsManyPixelsOrangeAndRed) {
-  Scene scene;
-  GpuSimulator simulator(context(), scene);
-  simulator.advance(3000);
-  LineRenderer renderer(context(), simulator, OffscreenTarget::kColorFormat,
-                        VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
-  OffscreenTarget target(context(), renderer.renderPass(), kSize);
-  const auto image = renderOffscreen(context(), renderer, target, camera_, scene);
+  const auto image = renderDefaultScene(LineMode::Pipeline);
   size_t lava = 0;
   for (size_t i = 0; i < image.size(); i += 4)
     lava += image[i] > 120 && image[i] > 2 * image[i + 2] && image[i + 1] < image[i];

@@ -28,12 +28,11 @@ class DemoCommand final : public Command {
         [this](const std::string& src, const std::string& t) {
           demo_.frames = static_cast<uint32_t>(parseInteger(src, t, 1, 10000000));
         });
-    options_.add("renderer", Kind::Text,
-                 "splat (compute) or lines (the graphics pipeline, the reference) "
-                 "[splat from 16384 particles, else lines]",
-                 [this](const std::string& src, const std::string& t) {
-                   demo_.lines = parseLineMode(src, t);
-                 });
+    options_.add(
+        "renderer", Kind::Text,
+        "splat (compute) or lines (the graphics pipeline, the reference) "
+        "[splat from 16384 particles, else lines]",
+        [this](const std::string& src, const std::string& t) { lines_ = parseLineMode(src, t); });
     options_.add("warmup", Kind::Number, "seconds simulated before the first frame, 0..600 [0]",
                  [this](const std::string& src, const std::string& t) {
                    demo_.warmup = parseNumber(src, t, 0, 600);
@@ -50,6 +49,7 @@ class DemoCommand final : public Command {
   int run() override {
     options_.resolve();
     demo_.validation = contextOptions(demo_.device).validation;
+    demo_.lines = lines_.value_or(defaultLineMode(demo_.scene.particles));
     if (!headless_) {
       try {
         const DemoSummary s = runDemoWindow(demo_);
@@ -68,21 +68,22 @@ class DemoCommand final : public Command {
     plan.frames = demo_.frames ? demo_.frames : 90;
     plan.size = demo_.size;
     plan.folder = outputFolder("--out", out_);
-    plan.lines = demo_.lines.value_or(demo_.scene.particles >= kSplatFrom ? LineMode::Splat
-                                                                          : LineMode::Pipeline);
+    plan.lines = demo_.lines;
     plan.warmup = demo_.warmup;
     Context context(contextOptions(demo_.device));
     const double seconds = renderFrames(context, demo_.scene, plan);
-    std::printf("demo: %u headless frames in %.2f s, average %.1f fps (%ux%u, %u particles); "
-                "wrote %s/frame_*.png\n",
-                plan.frames, seconds, seconds > 0 ? plan.frames / seconds : 0.0, plan.size.width,
-                plan.size.height, demo_.scene.particles, plan.folder.c_str());
+    std::printf(
+        "demo: %u headless frames in %.2f s, average %.1f fps (%ux%u, %u particles); "
+        "wrote %s/frame_*.png\n",
+        plan.frames, seconds, seconds > 0 ? plan.frames / seconds : 0.0, plan.size.width,
+        plan.size.height, demo_.scene.particles, plan.folder.c_str());
     return finish(context, 0);
   }
 
  private:
   Options options_;
   DemoOptions demo_;
+  std::optional<LineMode> lines_;  // --renderer; unset: defaultLineMode
   bool headless_ = false;
   std::string out_ = "lava-demo-frames";
 };

@@ -53,7 +53,7 @@ double renderFrames(Context& context, const Scene& scene, const FramePlan& plan)
   renderer.setMode(plan.lines);
   OffscreenTarget target(context, renderer.renderPass(), plan.size);
   OrbitCamera camera;
-  simulator.advance(static_cast<uint64_t>(std::llround(plan.warmup / double(scene.dt))));
+  simulator.advance(stepsIn(scene, plan.warmup));
   const double stepsPerFrame = 1.0 / (plan.fps * double(scene.dt));
   double owed = 0.0;
   Progress progress("render", plan.frames);

@@ -49,6 +49,13 @@ class LineRenderer {
   LineMode mode_ = LineMode::Pipeline;
 };
 
+// Below this many particles the graphics line pipeline is faster than splatting on lavapipe
+// (docs/benchmarks.md): the renderer to use when the user did not say.
+constexpr uint32_t kSplatFrom = 16384;
+inline LineMode defaultLineMode(uint32_t particles) {
+  return particles >= kSplatFrom ? LineMode::Splat : LineMode::Pipeline;
+}
+
 // Parses "lines" or "splat" for the flag named by `source` (UsageError otherwise).
 LineMode parseLineMode(const std::string& source, const std::string& text);
 

@@ -1,6 +1,12 @@
 #include "scene.h"
 
+#include <cmath>
+
 namespace lava {
+
+uint64_t stepsIn(const Scene& scene, double seconds) {
+  return static_cast<uint64_t>(std::llround(seconds / double(scene.dt)));
+}
 
 gpu::StepParams stepParams(const Scene& s) {
   gpu::StepParams p{};

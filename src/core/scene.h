@@ -27,6 +27,9 @@ struct Scene {
   uint32_t seed = 20170101u;             // RNG seed
 };
 
+// Steps of size scene.dt in `seconds` of simulated time (rounded).
+uint64_t stepsIn(const Scene& scene, double seconds);
+
 // Push constants for one dispatch; the caller fills run.zw and chunk.
 gpu::StepParams stepParams(const Scene& scene);
 

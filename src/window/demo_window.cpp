@@ -104,9 +104,8 @@ class Demo {
         renderer_(context_, *simulator_, format_.format, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR),
         swapchain_(context_, surface_.handle, renderer_.renderPass(), format_, options.vsync) {
     if (!swapchain_.recreate(framebufferSize())) throw NoDisplay("the window has no area");
-    renderer_.setMode(options.lines.value_or(scene_.particles >= kSplatFrom ? LineMode::Splat
-                                                                            : LineMode::Pipeline));
-    simulator_->advance(static_cast<uint64_t>(std::llround(options.warmup / double(scene_.dt))));
+    renderer_.setMode(options.lines);
+    simulator_->advance(stepsIn(scene_, options.warmup));
     ui_ = std::make_unique<Ui>(context_, window_.handle, renderer_.renderPass(),
                                swapchain_.imageCount());
     createFrameSlots();

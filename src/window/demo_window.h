@@ -19,18 +19,14 @@ class NoDisplay : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Below this many particles the graphics line pipeline is faster than splatting on lavapipe
-// (docs/benchmarks.md); the demo picks by it unless told.
-constexpr uint32_t kSplatFrom = 16384;
-
 struct DemoOptions {
   Scene scene;
   VkExtent2D size{1280, 720};
   uint32_t frames = 0;    // exit after this many presented frames; 0: until the window closes
   bool vsync = false;     // FIFO presentation; else mailbox or immediate when offered
   bool exercise = false;  // resize, minimise and restore the window on a schedule (tests)
-  std::optional<LineMode> lines;  // unset: splat from kSplatFrom particles, else lines
-  double warmup = 0.0;            // seconds simulated before the first frame
+  LineMode lines = LineMode::Pipeline;
+  double warmup = 0.0;  // seconds simulated before the first frame
   std::optional<unsigned> device;
   bool validation = false;
 };
