@@ -32,14 +32,30 @@ void main() {
   vec2 size = vec2(s.target.xy);
   vec2 pa = (a.xy / a.w * 0.5 + 0.5) * size;
   vec2 pb = (b.xy / b.w * 0.5 + 0.5) * size;
+  // Like a rasteriser's line: one pixel per pixel centre the line passes along its major
+  // axis, sampled at those centres (half-open, [a, b)), so a line shorter than a pixel, such
+  // as a particle resting on the ground, usually draws nothing, as in the graphics pipeline.
   vec2 d = pb - pa;
-  uint n = min(uint(max(abs(d.x), abs(d.y))), kMaxPixels - 1u) + 1u;
+  bool xMajor = abs(d.x) >= abs(d.y);
+  float a0 = xMajor ? pa.x : pa.y, a1 = xMajor ? pb.x : pb.y;
+  float m0 = xMajor ? pa.y : pa.x, m1 = xMajor ? pb.y : pb.x;
+  float majorSize = float(xMajor ? s.target.x : s.target.y);
+  // Clipped to the target along the major axis (in floats first: no int overflow).
+  int first = int(ceil(clamp(min(a0, a1), 0.0, majorSize) - 0.5));
+  int end = int(ceil(clamp(max(a0, a1), 0.0, majorSize) - 0.5));
+  if (end <= first) return;
+  uint n = min(uint(end - first), kMaxPixels);
+  float slope = (m1 - m0) / (a1 - a0);  // a1 != a0: at least one centre lies between them
+  float minor = m0 + (float(first) + 0.5 - a0) * slope;
+  uint minorSize = xMajor ? s.target.y : s.target.x;
   vec3 c = lavaColor(v, q.posAge.w, s.style);
   uint add = (uint(c.r * kSplatScale + 0.5) << 16) | uint(c.g * kSplatScale + 0.5);
-  vec2 step = d / float(n);
-  vec2 at = pa;
-  for (uint k = 0u; k < n; ++k, at += step) {
-    uvec2 p = uvec2(ivec2(floor(at)));  // negative wraps to huge: one unsigned test per axis
-    if (p.x < s.target.x && p.y < s.target.y) atomicAdd(accumulation[p.y * s.target.x + p.x], add);
+  for (uint k = 0u; k < n; ++k, minor += slope) {
+    uint major = uint(first) + k;
+    uint across = uint(int(floor(minor)));  // negative wraps to huge: one unsigned test
+    if (across < minorSize) {
+      uvec2 p = xMajor ? uvec2(major, across) : uvec2(across, major);
+      atomicAdd(accumulation[p.y * s.target.x + p.x], add);
+    }
   }
 }
