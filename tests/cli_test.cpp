@@ -138,6 +138,8 @@ const BadInput kBadInputs[] = {
     {"render --frames 2", "--out"},
     {"render --frames 2 --renderer raytrace --out frames", "--renderer"},
     {"demo --renderer raytrace", "--renderer"},
+    {"demo --present mirror", "--present"},
+    {"demo --vsync --present shm", "--vsync"},
     {"bench --sizes 0", "--sizes"},
     {"bench --sizes 1000,abc", "--sizes"},
     {"bench --sizes 1000,", "--sizes"},

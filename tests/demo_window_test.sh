@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The demo in a real window under Xvfb on lavapipe, validation and synchronization
 # validation on (any message makes lava exit 1):
-# 1. each line renderer for 400 frames with resizes, a minimise and a restore (--exercise);
-# 2. the keyboard: P (screenshot), Space (pause), N (step), R (reset), H (hide the panel)
+# 1. each line renderer and each presentation path for 400 frames with resizes, a minimise
+#    and a restore (--exercise);
+# 2. without MIT-SHM on the server: the swapchain is chosen, and --present shm is refused;
+# 3. the keyboard: P (screenshot), Space (pause), N (step), R (reset), H (hide the panel)
 #    and Esc (quit), typed with xdotool into the focused window; the screenshot must appear.
 set -u
 lava=$1
@@ -14,14 +16,30 @@ summary() {  # the demo's own summary line, or fail
   echo "$1" | grep -q 'rendering headless' && { echo "FAIL: no window was opened"; exit 1; }
 }
 
-for renderer in lines splat; do
+for run in "lines swapchain mailbox" "splat shm MIT-SHM"; do
+  set -- $run
   out=$(xvfb-run -a -s "$screen" "$lava" demo --frames 400 --size 800x450 \
-        --exercise --renderer "$renderer" --particles 20000 --rate 4000 2>&1)
+        --exercise --renderer "$1" --present "$2" --particles 20000 --rate 4000 2>&1)
   status=$?
-  echo "$renderer: $out"
-  [ $status -eq 0 ] || { echo "FAIL: lava demo --renderer $renderer exited $status"; exit 1; }
+  echo "$1, $2: $out"
+  [ $status -eq 0 ] || { echo "FAIL: lava demo --renderer $1 --present $2 exited $status"; exit 1; }
   summary "$out" 400
+  echo "$out" | grep -q ", $3; GPU" || { echo "FAIL: not presented by $3"; exit 1; }
 done
+
+# The default on lavapipe is MIT-SHM; a server without it gets the swapchain.
+out=$(xvfb-run -a -s "$screen" "$lava" demo --frames 30 --size 320x180 2>&1)
+echo "default: $out"
+echo "$out" | grep -q ", MIT-SHM; GPU" || { echo "FAIL: lavapipe on Xvfb did not pick MIT-SHM"; exit 1; }
+out=$(xvfb-run -a -s "$screen -extension MIT-SHM" "$lava" demo --frames 30 --size 320x180 2>&1)
+echo "no MIT-SHM: $out"
+echo "$out" | grep -q ", mailbox; GPU" || { echo "FAIL: without MIT-SHM the swapchain was not used"; exit 1; }
+out=$(xvfb-run -a -s "$screen -extension MIT-SHM" "$lava" demo --frames 30 --present shm 2>&1)
+status=$?
+echo "no MIT-SHM, --present shm: $out"
+[ $status -eq 2 ] || { echo "FAIL: --present shm without MIT-SHM exited $status, not 2"; exit 1; }
+[ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q -- "--present" ||
+  { echo "FAIL: expected one line naming --present"; exit 1; }
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

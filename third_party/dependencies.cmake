@@ -7,6 +7,8 @@ find_package(CLI11 REQUIRED)
 find_package(tomlplusplus REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(GLFW REQUIRED IMPORTED_TARGET glfw3)
+# Xlib and its MIT-SHM extension: the demo's shared-memory presentation for CPU devices.
+pkg_check_modules(X11 REQUIRED IMPORTED_TARGET x11 xext)
 
 # Debian's libimgui-dev: a static library with the GLFW and Vulkan backends compiled in.
 pkg_check_modules(IMGUI REQUIRED IMPORTED_TARGET imgui)

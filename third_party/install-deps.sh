@@ -7,7 +7,7 @@ packages=(
   build-essential cmake pkg-config
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   glslang-tools spirv-tools
-  libglfw3-dev libglm-dev libgtest-dev
+  libglfw3-dev libx11-dev libxext-dev libglm-dev libgtest-dev
   libcli11-dev libtomlplusplus-dev libstb-dev libimgui-dev
   xvfb xauth xdotool
 )

@@ -38,7 +38,14 @@ class DemoCommand final : public Command {
                    demo_.warmup = parseNumber(src, t, 0, 600);
                  });
     command_->add_flag("--headless", headless_, "render PNG frames offscreen instead of a window");
-    command_->add_flag("--vsync", demo_.vsync, "present with FIFO (vsync); default: fastest mode");
+    command_->add_flag("--vsync", demo_.vsync,
+                       "present with FIFO (vsync) through the swapchain; default: fastest mode");
+    options_.add("present", Kind::Text,
+                 "swapchain (Vulkan presentation) or shm (X11 MIT-SHM, for CPU devices) "
+                 "[shm on a CPU device when the X server allows, else swapchain]",
+                 [this](const std::string& src, const std::string& t) {
+                   demo_.present = parsePresentPath(src, t);
+                 });
     command_->add_flag("--exercise", demo_.exercise,
                        "resize, minimise and restore the window on a schedule (for tests)");
     options_.add(
@@ -50,6 +57,8 @@ class DemoCommand final : public Command {
     options_.resolve();
     demo_.validation = contextOptions(demo_.device).validation;
     demo_.lines = lines_.value_or(defaultLineMode(demo_.scene.particles));
+    if (demo_.vsync && demo_.present == PresentPath::Shm)
+      throw UsageError("--vsync: needs --present swapchain (MIT-SHM has no vsync)");
     if (!headless_) {
       try {
         const DemoSummary s = runDemoWindow(demo_);

@@ -53,9 +53,10 @@ UniqueImageView createImageView(VkDevice device, VkImage image, VkFormat format,
   return UniqueImageView(device, view);
 }
 
-OffscreenTarget::OffscreenTarget(const Context& context, VkRenderPass renderPass, VkExtent2D extent)
+OffscreenTarget::OffscreenTarget(const Context& context, VkRenderPass renderPass, VkExtent2D extent,
+                                 VkFormat colorFormat)
     : extent_(extent),
-      color_(createImage(context, extent, kColorFormat,
+      color_(createImage(context, extent, colorFormat,
                          VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                          VK_IMAGE_ASPECT_COLOR_BIT)),
       depth_(createImage(context, extent, LineRenderer::kDepthFormat,

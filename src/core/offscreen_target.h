@@ -28,13 +28,16 @@ class OffscreenTarget {
  public:
   static constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 
-  OffscreenTarget(const Context& context, VkRenderPass renderPass, VkExtent2D extent);
+  OffscreenTarget(const Context& context, VkRenderPass renderPass, VkExtent2D extent,
+                  VkFormat colorFormat = kColorFormat);
   VkFramebuffer framebuffer() const { return framebuffer_; }
   VkExtent2D extent() const { return extent_; }
   // After the render pass (color in TRANSFER_SRC_OPTIMAL): copy the image for the host.
   void recordReadback(VkCommandBuffer commands) const;
   // RGBA8 pixels, row-major from the top-left, once the readback was submitted and waited on.
   std::vector<uint8_t> pixels() const;
+  // The same pixels in place: 4 bytes each, rows of extent().width, no padding.
+  const uint8_t* mappedPixels() const { return static_cast<const uint8_t*>(readback_.mapped()); }
 
  private:
   VkExtent2D extent_;

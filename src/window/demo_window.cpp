@@ -20,6 +20,7 @@
 #include "image_io.h"
 #include "line_renderer.h"
 #include "offscreen_target.h"
+#include "shm_presenter.h"
 #include "swapchain.h"
 #include "ui.h"
 #include "vk_check.h"
@@ -87,9 +88,21 @@ ContextOptions windowContextOptions(const DemoOptions& options) {
 struct FrameSlot {
   VkCommandBuffer commands = VK_NULL_HANDLE;
   UniqueFence inFlight;
-  UniqueSemaphore imageAvailable;
   bool timed = false;  // its queries hold results from a finished frame
 };
+
+// --present, or when it is not given: MIT-SHM for a CPU device (lavapipe) on an X server
+// that can attach our memory, unless vsync was asked for; the swapchain otherwise.
+PresentPath choosePresentPath(const DemoOptions& options, const Context& context,
+                              GLFWwindow* window) {
+  std::string why;
+  if (options.present == PresentPath::Shm && !ShmPresenter::available(window, &why))
+    throw UsageError("--present: shm is not possible here (" + why + ")");
+  if (options.present) return *options.present;
+  if (options.vsync || context.properties().deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU)
+    return PresentPath::Swapchain;
+  return ShmPresenter::available(window, nullptr) ? PresentPath::Shm : PresentPath::Swapchain;
+}
 
 class Demo {
  public:
@@ -99,15 +112,25 @@ class Demo {
         window_(options.size),
         context_(windowContextOptions(options)),
         surface_(context_.instance(), window_.handle),
-        format_(Swapchain::chooseFormat(context_, surface_.handle)),
+        path_(choosePresentPath(options, context_, window_.handle)),
+        format_(path_ == PresentPath::Shm
+                    ? VkSurfaceFormatKHR{ShmPresenter::kFormat, VK_COLOR_SPACE_SRGB_NONLINEAR_KHR}
+                    : Swapchain::chooseFormat(context_, surface_.handle)),
         simulator_(std::make_unique<GpuSimulator>(context_, scene_)),
-        renderer_(context_, *simulator_, format_.format, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR),
-        swapchain_(context_, surface_.handle, renderer_.renderPass(), format_, options.vsync) {
-    if (!swapchain_.recreate(framebufferSize())) throw NoDisplay("the window has no area");
+        renderer_(context_, *simulator_, format_.format,
+                  path_ == PresentPath::Shm ? ShmPresenter::kFinalLayout
+                                            : VK_IMAGE_LAYOUT_PRESENT_SRC_KHR) {
+    if (path_ == PresentPath::Shm)
+      presenter_ = std::make_unique<ShmPresenter>(context_, window_.handle, renderer_.renderPass(),
+                                                  kFramesInFlight);
+    else
+      presenter_ = std::make_unique<Swapchain>(context_, surface_.handle, renderer_.renderPass(),
+                                               format_, options.vsync, kFramesInFlight);
+    if (!presenter_->resize(framebufferSize())) throw NoDisplay("the window has no area");
     renderer_.setMode(options.lines);
     simulator_->advance(stepsIn(scene_, options.warmup));
     ui_ = std::make_unique<Ui>(context_, window_.handle, renderer_.renderPass(),
-                               swapchain_.imageCount());
+                               presenter_->imageCount());
     createFrameSlots();
     glfwSetWindowUserPointer(window_.handle, this);
     glfwSetFramebufferSizeCallback(window_.handle, [](GLFWwindow* w, int, int) {
@@ -135,14 +158,15 @@ class Demo {
       ++presented;
       if (options_.frames && presented >= options_.frames) break;
     }
+    presenter_->flush();
     VK_CHECK(vkDeviceWaitIdle(context_.device()));
     DemoSummary summary;
     summary.frames = presented;
     summary.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    summary.size = swapchain_.extent();
+    summary.size = presenter_->extent();
     summary.device = context_.properties().deviceName;
-    summary.presentMode = swapchain_.presentModeName();
+    summary.presentMode = presenter_->name();
     summary.simulateMs = simulateMs_;
     summary.drawMs = drawMs_;
     for (const std::string& m : context_.takeValidationMessages()) {
@@ -179,10 +203,6 @@ class Demo {
       VkFence fence = VK_NULL_HANDLE;
       VK_CHECK(vkCreateFence(device, &fenceInfo, nullptr, &fence));
       slot.inFlight = UniqueFence(device, fence);
-      VkSemaphoreCreateInfo semaphoreInfo{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
-      VkSemaphore semaphore = VK_NULL_HANDLE;
-      VK_CHECK(vkCreateSemaphore(device, &semaphoreInfo, nullptr, &semaphore));
-      slot.imageAvailable = UniqueSemaphore(device, semaphore);
     }
   }
 
@@ -339,7 +359,7 @@ class Demo {
       LineRenderer offscreen(context_, *simulator_, OffscreenTarget::kColorFormat,
                              VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
       offscreen.setMode(renderer_.mode());
-      OffscreenTarget target(context_, offscreen.renderPass(), swapchain_.extent());
+      OffscreenTarget target(context_, offscreen.renderPass(), presenter_->extent());
       char name[64];
       std::snprintf(name, sizeof(name), "lava-screenshot-%03u.png", screenshots_++);
       writePng(name, target.extent().width, target.extent().height,
@@ -352,7 +372,7 @@ class Demo {
   bool drawFrame(double frameSeconds) {
     if (minimisedByExercise_ || glfwGetWindowAttrib(window_.handle, GLFW_ICONIFIED)) return false;
     if (resized_) {
-      if (!swapchain_.recreate(framebufferSize())) return false;
+      if (!presenter_->resize(framebufferSize())) return false;
       ImGui_ImplVulkan_SetMinImageCount(2);
       resized_ = false;
     }
@@ -362,14 +382,11 @@ class Demo {
     VK_CHECK(vkWaitForFences(context_.device(), 1, &fence, VK_TRUE, UINT64_MAX));
     readTimings(slot, index);
 
-    uint32_t image = 0;
-    const VkResult acquired = vkAcquireNextImageKHR(context_.device(), swapchain_.get(), UINT64_MAX,
-                                                    slot.imageAvailable, VK_NULL_HANDLE, &image);
-    if (acquired == VK_ERROR_OUT_OF_DATE_KHR) {
+    const VkFramebuffer framebuffer = presenter_->acquire(index);
+    if (!framebuffer) {
       resized_ = true;
       return false;
     }
-    if (acquired != VK_SUBOPTIMAL_KHR) VK_CHECK(acquired);
 
     ImGui_ImplVulkan_NewFrame();
     ImGui_ImplGlfw_NewFrame();
@@ -396,37 +413,14 @@ class Demo {
     }
     vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, queries_, query + 1);
     renderer_.record(
-        commands, swapchain_.framebuffer(image), swapchain_.extent(), camera_, scene_,
+        commands, framebuffer, presenter_->extent(), camera_, scene_,
         [](VkCommandBuffer c) { ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), c); });
+    presenter_->recordAfterPass(commands, index);
     vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, query + 2);
     VK_CHECK(vkEndCommandBuffer(commands));
 
-    VkSemaphore wait = slot.imageAvailable;
-    VkSemaphore signal = swapchain_.renderFinished(image);
-    VkPipelineStageFlags waitStage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    submit.waitSemaphoreCount = 1;
-    submit.pWaitSemaphores = &wait;
-    submit.pWaitDstStageMask = &waitStage;
-    submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &commands;
-    submit.signalSemaphoreCount = 1;
-    submit.pSignalSemaphores = &signal;
-    VK_CHECK(vkQueueSubmit(context_.queue(), 1, &submit, fence));
+    if (!presenter_->submitAndPresent(commands, fence, index)) resized_ = true;
     slot.timed = true;
-
-    VkSwapchainKHR swapchain = swapchain_.get();
-    VkPresentInfoKHR present{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
-    present.waitSemaphoreCount = 1;
-    present.pWaitSemaphores = &signal;
-    present.swapchainCount = 1;
-    present.pSwapchains = &swapchain;
-    present.pImageIndices = &image;
-    const VkResult presented = vkQueuePresentKHR(context_.queue(), &present);
-    if (presented == VK_ERROR_OUT_OF_DATE_KHR || presented == VK_SUBOPTIMAL_KHR)
-      resized_ = true;
-    else
-      VK_CHECK(presented);
     ++frame_;
     return true;
   }
@@ -436,10 +430,11 @@ class Demo {
   GlfwWindow window_;
   Context context_;
   Surface surface_;
+  PresentPath path_;
   VkSurfaceFormatKHR format_;
   std::unique_ptr<GpuSimulator> simulator_;
   LineRenderer renderer_;
-  Swapchain swapchain_;
+  std::unique_ptr<Presenter> presenter_;
   std::unique_ptr<Ui> ui_;
   UniqueQueryPool queries_;
   std::array<FrameSlot, kFramesInFlight> slots_;

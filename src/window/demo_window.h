@@ -9,6 +9,7 @@
 #include <string>
 
 #include "line_renderer.h"
+#include "presenter.h"
 #include "scene.h"
 
 namespace lava {
@@ -24,6 +25,7 @@ struct DemoOptions {
   VkExtent2D size{1280, 720};
   uint32_t frames = 0;    // exit after this many presented frames; 0: until the window closes
   bool vsync = false;     // FIFO presentation; else mailbox or immediate when offered
+  std::optional<PresentPath> present;  // unset: MIT-SHM for CPU devices on X11, else swapchain
   bool exercise = false;  // resize, minimise and restore the window on a schedule (tests)
   LineMode lines = LineMode::Pipeline;
   double warmup = 0.0;  // seconds simulated before the first frame

@@ -6,6 +6,16 @@
 #include "vk_check.h"
 
 namespace lava {
+namespace {
+
+UniqueSemaphore createSemaphore(VkDevice device) {
+  VkSemaphoreCreateInfo info{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+  VkSemaphore semaphore = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateSemaphore(device, &info, nullptr, &semaphore));
+  return UniqueSemaphore(device, semaphore);
+}
+
+}  // namespace
 
 VkSurfaceFormatKHR Swapchain::chooseFormat(const Context& context, VkSurfaceKHR surface) {
   uint32_t count = 0;
@@ -24,8 +34,9 @@ VkSurfaceFormatKHR Swapchain::chooseFormat(const Context& context, VkSurfaceKHR 
 }
 
 Swapchain::Swapchain(const Context& context, VkSurfaceKHR surface, VkRenderPass renderPass,
-                     VkSurfaceFormatKHR format, bool vsync)
+                     VkSurfaceFormatKHR format, bool vsync, uint32_t slots)
     : context_(context), surface_(surface), renderPass_(renderPass), format_(format) {
+  for (uint32_t i = 0; i < slots; ++i) imageAvailable_.push_back(createSemaphore(context.device()));
   VkBool32 supported = VK_FALSE;
   VK_CHECK(vkGetPhysicalDeviceSurfaceSupportKHR(context.physicalDevice(), context.queueFamily(),
                                                 surface, &supported));
@@ -50,7 +61,7 @@ Swapchain::~Swapchain() {
   if (swapchain_) vkDestroySwapchainKHR(context_.device(), swapchain_, nullptr);
 }
 
-const char* Swapchain::presentModeName() const {
+const char* Swapchain::name() const {
   switch (presentMode_) {
     case VK_PRESENT_MODE_MAILBOX_KHR:
       return "mailbox";
@@ -69,7 +80,7 @@ void Swapchain::destroyViews() {
   images_.clear();
 }
 
-bool Swapchain::recreate(VkExtent2D framebufferSize) {
+bool Swapchain::resize(VkExtent2D framebufferSize) {
   VkDevice device = context_.device();
   VK_CHECK(vkDeviceWaitIdle(device));
   VkSurfaceCapabilitiesKHR caps;
@@ -116,12 +127,43 @@ bool Swapchain::recreate(VkExtent2D framebufferSize) {
     views_.push_back(createImageView(device, image, format_.format, VK_IMAGE_ASPECT_COLOR_BIT));
     framebuffers_.push_back(
         createFramebuffer(device, renderPass_, views_.back(), depth_.view, extent));
-
-    VkSemaphoreCreateInfo semaphoreInfo{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
-    VkSemaphore semaphore = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateSemaphore(device, &semaphoreInfo, nullptr, &semaphore));
-    renderFinished_.emplace_back(device, semaphore);
+    renderFinished_.push_back(createSemaphore(device));
   }
+  return true;
+}
+
+VkFramebuffer Swapchain::acquire(uint32_t slot) {
+  const VkResult acquired =
+      vkAcquireNextImageKHR(context_.device(), swapchain_, UINT64_MAX, imageAvailable_[slot],
+                            VK_NULL_HANDLE, &acquired_);
+  if (acquired == VK_ERROR_OUT_OF_DATE_KHR) return VK_NULL_HANDLE;
+  if (acquired != VK_SUBOPTIMAL_KHR) VK_CHECK(acquired);
+  return framebuffers_[acquired_];
+}
+
+bool Swapchain::submitAndPresent(VkCommandBuffer commands, VkFence done, uint32_t slot) {
+  VkSemaphore wait = imageAvailable_[slot];
+  VkSemaphore signal = renderFinished_[acquired_];
+  VkPipelineStageFlags waitStage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  submit.waitSemaphoreCount = 1;
+  submit.pWaitSemaphores = &wait;
+  submit.pWaitDstStageMask = &waitStage;
+  submit.commandBufferCount = 1;
+  submit.pCommandBuffers = &commands;
+  submit.signalSemaphoreCount = 1;
+  submit.pSignalSemaphores = &signal;
+  VK_CHECK(vkQueueSubmit(context_.queue(), 1, &submit, done));
+
+  VkPresentInfoKHR present{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
+  present.waitSemaphoreCount = 1;
+  present.pWaitSemaphores = &signal;
+  present.swapchainCount = 1;
+  present.pSwapchains = &swapchain_;
+  present.pImageIndices = &acquired_;
+  const VkResult presented = vkQueuePresentKHR(context_.queue(), &present);
+  if (presented == VK_ERROR_OUT_OF_DATE_KHR || presented == VK_SUBOPTIMAL_KHR) return false;
+  VK_CHECK(presented);
   return true;
 }
 

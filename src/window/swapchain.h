@@ -1,33 +1,34 @@
-// The window's render target: a VkSwapchainKHR over a surface, its image views, a depth
-// image and one framebuffer per image, recreated whole when the window changes size.
+// The window's render target through Vulkan presentation: a VkSwapchainKHR over a surface,
+// its image views, a depth image and one framebuffer per image, recreated whole when the
+// window changes size.
 #pragma once
 #include <vector>
 
 #include "context.h"
 #include "offscreen_target.h"
+#include "presenter.h"
 
 namespace lava {
 
-class Swapchain {
+class Swapchain final : public Presenter {
  public:
   // The color format the render pass must use for this surface.
   static VkSurfaceFormatKHR chooseFormat(const Context& context, VkSurfaceKHR surface);
 
+  // `renderPass` renders into images of `format` and leaves them in PRESENT_SRC_KHR.
   Swapchain(const Context& context, VkSurfaceKHR surface, VkRenderPass renderPass,
-            VkSurfaceFormatKHR format, bool vsync);
-  ~Swapchain();
+            VkSurfaceFormatKHR format, bool vsync, uint32_t slots);
+  ~Swapchain() override;
   Swapchain(const Swapchain&) = delete;
   Swapchain& operator=(const Swapchain&) = delete;
 
-  // Rebuilds for the surface's current size; returns false while it is 0x0 (minimised).
-  bool recreate(VkExtent2D framebufferSize);
-  VkSwapchainKHR get() const { return swapchain_; }
-  VkExtent2D extent() const { return extent_; }
-  uint32_t imageCount() const { return static_cast<uint32_t>(images_.size()); }
-  VkFramebuffer framebuffer(uint32_t image) const { return framebuffers_[image]; }
-  // Signalled when rendering into `image` is done; presentation waits on it.
-  VkSemaphore renderFinished(uint32_t image) const { return renderFinished_[image]; }
-  const char* presentModeName() const;
+  const char* name() const override;
+  uint32_t imageCount() const override { return static_cast<uint32_t>(images_.size()); }
+  bool resize(VkExtent2D framebufferSize) override;
+  VkExtent2D extent() const override { return extent_; }
+  VkFramebuffer acquire(uint32_t slot) override;
+  void recordAfterPass(VkCommandBuffer, uint32_t) override {}
+  bool submitAndPresent(VkCommandBuffer commands, VkFence done, uint32_t slot) override;
 
  private:
   void destroyViews();
@@ -43,7 +44,9 @@ class Swapchain {
   std::vector<UniqueImageView> views_;
   ImageWithMemory depth_;
   std::vector<UniqueFramebuffer> framebuffers_;
-  std::vector<UniqueSemaphore> renderFinished_;
+  std::vector<UniqueSemaphore> renderFinished_;  // per image: presentation waits on it
+  std::vector<UniqueSemaphore> imageAvailable_;  // per slot: rendering waits on it
+  uint32_t acquired_ = 0;                        // the image the last acquire() returned
 };
 
 }  // namespace lava

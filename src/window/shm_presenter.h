@@ -1,0 +1,75 @@
+// Presents through X11 MIT-SHM, for CPU Vulkan devices (lavapipe). Mesa 22's software WSI
+// sends every frame through the X socket as one PutImage request when the server has no
+// DRI3 (Xvfb, Xvnc, ...): at 1280x720 the server's and the client's share of that copy
+// costs more CPU than drawing 262,144 lines (docs/benchmarks.md). Here each frame slot
+// renders into its own offscreen image, copies it into a host buffer, and once the frame
+// finished, the pixels go into a System V shared-memory XImage the server reads in place.
+//
+// A frame is put on screen right after the next one was submitted, so the CPU copies one
+// frame while the device draws the next; presentation lags one frame behind submission.
+#pragma once
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "context.h"
+#include "offscreen_target.h"
+#include "presenter.h"
+
+struct GLFWwindow;
+
+namespace lava {
+
+// MIT-SHM presentation is not possible for this window; what() says why.
+class ShmUnavailable : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class ShmPresenter final : public Presenter {
+ public:
+  // The render pass's color format: the byte order of a 24-bit TrueColor X visual.
+  static constexpr VkFormat kFormat = VK_FORMAT_B8G8R8A8_UNORM;
+  static constexpr VkImageLayout kFinalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+
+  // Throws ShmUnavailable when the window is not on X11, the server lacks MIT-SHM or is
+  // remote (it cannot attach our segment), or the window's visual is not 32-bit BGRX.
+  ShmPresenter(const Context& context, GLFWwindow* window, VkRenderPass renderPass,
+               uint32_t slots);
+  // Whether the constructor would succeed for this window; if not, why (in `why`).
+  static bool available(GLFWwindow* window, std::string* why);
+  ~ShmPresenter() override;
+  ShmPresenter(const ShmPresenter&) = delete;
+  ShmPresenter& operator=(const ShmPresenter&) = delete;
+
+  const char* name() const override { return "MIT-SHM"; }
+  uint32_t imageCount() const override { return static_cast<uint32_t>(slots_.size()); }
+  bool resize(VkExtent2D framebufferSize) override;
+  VkExtent2D extent() const override { return extent_; }
+  VkFramebuffer acquire(uint32_t slot) override;
+  void recordAfterPass(VkCommandBuffer commands, uint32_t slot) override;
+  bool submitAndPresent(VkCommandBuffer commands, VkFence done, uint32_t slot) override;
+  void flush() override;
+
+  struct X11;      // the display, window and GC (Xlib types stay out of this header)
+  struct Segment;  // one slot's shared-memory XImage
+
+ private:
+  struct Slot {
+    std::unique_ptr<OffscreenTarget> target;
+    std::unique_ptr<Segment> segment;
+  };
+  void put(uint32_t slot);
+
+  const Context& context_;
+  VkRenderPass renderPass_;
+  std::unique_ptr<X11> x11_;
+  std::vector<Slot> slots_;
+  VkExtent2D extent_{0, 0};
+  bool pending_ = false;  // a submitted frame is not on screen yet
+  uint32_t pendingSlot_ = 0;
+  VkFence pendingDone_ = VK_NULL_HANDLE;
+};
+
+}  // namespace lava
