@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <set>
 
 #include "compare.h"
 #include "cpu_simulator.h"
@@ -149,6 +150,17 @@ TEST_F(GpuTest, ManyChunksPastTheStorageBufferRange) {
   ASSERT_GT(uint64_t{s.particles} * sizeof(Particle), context().limits().maxStorageBufferRange);
   ASSERT_GT(s.particles, perChunk);
   GpuSimulator gpu(context(), s);
+  // Each chunk is its own buffer and allocation, together covering every particle once.
+  uint32_t next = 0;
+  std::set<VkBuffer> buffers;
+  for (const ParticleChunk& chunk : gpu.chunks()) {
+    EXPECT_EQ(chunk.first, next);
+    EXPECT_LE(chunk.count, perChunk);
+    next += chunk.count;
+    buffers.insert(chunk.buffer);
+  }
+  EXPECT_EQ(next, s.particles);
+  EXPECT_EQ(buffers.size(), gpu.chunks().size());
   CpuSimulator cpu(s, 0);
   gpu.advance(3);
   cpu.advance(3);

@@ -48,7 +48,9 @@ class InfoCommand final : public Command {
     std::printf("  timestampPeriod                 %g ns\n", double(l.timestampPeriod));
     std::printf("  largest allocation              %llu MiB\n",
                 static_cast<unsigned long long>(context.maxAllocationSize() / mib));
-    std::printf("  particles per binding           %u (%zu bytes each)\n",
+    std::printf("  device-local memory             %llu MiB\n",
+                static_cast<unsigned long long>(context.deviceMemory() / mib));
+    std::printf("  particles per chunk             %u (%zu bytes each; a buffer each)\n",
                 particlesPerChunk(context), sizeof(Particle));
     std::printf("  largest particle count          %llu\n",
                 static_cast<unsigned long long>(maxParticles(context)));

@@ -222,6 +222,7 @@ void Context::pickDevice(const ContextOptions& options) {
     if (memory_.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
       largestHeap = std::max(largestHeap, memory_.memoryHeaps[i].size);
   maxAllocation_ = std::min(maintenance3.maxMemoryAllocationSize, largestHeap);
+  deviceMemory_ = largestHeap;
 }
 
 uint32_t Context::findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags wanted) const {

@@ -49,6 +49,8 @@ class Context {
 
   // Largest VkDeviceMemory this device gives: min(maxMemoryAllocationSize, largest heap).
   VkDeviceSize maxAllocationSize() const { return maxAllocation_; }
+  // Size of the largest device-local memory heap.
+  VkDeviceSize deviceMemory() const { return deviceMemory_; }
   uint32_t findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags wanted) const;
 
   // Allocates a primary command buffer, records it with `record`, submits and waits.
@@ -76,6 +78,7 @@ class Context {
   VkPhysicalDeviceProperties properties_{};
   VkPhysicalDeviceMemoryProperties memory_{};
   VkDeviceSize maxAllocation_ = 0;
+  VkDeviceSize deviceMemory_ = 0;
   uint32_t queueFamily_ = 0;
   VkDevice device_ = VK_NULL_HANDLE;
   VkQueue queue_ = VK_NULL_HANDLE;

@@ -19,13 +19,14 @@ constexpr VkDeviceSize kParticleBytes = sizeof(Particle);
 
 uint32_t particlesPerChunk(const Context& context) {
   const uint64_t perBinding = std::min<uint64_t>(
-      context.limits().maxStorageBufferRange / kParticleBytes,
-      uint64_t{context.limits().maxComputeWorkGroupCount[0]} * gpu::kWorkgroupSize);
+      {context.limits().maxStorageBufferRange / kParticleBytes,
+       context.maxAllocationSize() / kParticleBytes,
+       uint64_t{context.limits().maxComputeWorkGroupCount[0]} * gpu::kWorkgroupSize});
   return static_cast<uint32_t>(perBinding - perBinding % gpu::kWorkgroupSize);
 }
 
 uint64_t maxParticles(const Context& context) {
-  return std::min<uint64_t>(context.maxAllocationSize() / kParticleBytes, 0x80000000u);
+  return std::min<uint64_t>(context.deviceMemory() / kParticleBytes, 0x80000000u);
 }
 
 GpuSimulator::GpuSimulator(Context& context, const Scene& scene)
@@ -36,16 +37,21 @@ GpuSimulator::GpuSimulator(Context& context, const Scene& scene)
                      std::to_string((scene.particles * kParticleBytes) >> 20) + " MiB; device '" +
                      context.properties().deviceName + "' allows at most " + std::to_string(limit) +
                      " (see 'lava info')");
-  const VkDeviceSize bytes = scene.particles * kParticleBytes;
+  const uint32_t perChunk = particlesPerChunk(context);
   const VkMemoryPropertyFlags hostMemory =
       VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-  particles_ = Buffer(context, bytes,
-                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                          VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                      VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  staging_ =
-      Buffer(context, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-             hostMemory);
+  particles_.reserve((scene.particles + perChunk - 1) / perChunk);
+  for (uint32_t first = 0; first < scene.particles; first += perChunk) {
+    const uint32_t count = std::min(perChunk, scene.particles - first);
+    particles_.emplace_back(context, VkDeviceSize{count} * kParticleBytes,
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                                VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                            VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    chunks_.push_back({first, count, particles_.back().get()});
+  }
+  staging_ = Buffer(context, VkDeviceSize{chunks_.front().count} * kParticleBytes,
+                    VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                    hostMemory);
   schedule_ = Buffer(context, kStepsPerSubmit * sizeof(gpu::EmitEntry),
                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, hostMemory);
   planned_.resize(kStepsPerSubmit + 1);
@@ -57,48 +63,53 @@ GpuSimulator::GpuSimulator(Context& context, const Scene& scene)
   pipeline_ = createComputePipeline(device, pipelineLayout_, kStepCompSpv, sizeof(kStepCompSpv),
                                     gpu::kWorkgroupSize);
 
-  const uint32_t perChunk = particlesPerChunk(context);
-  for (uint32_t first = 0; first < scene.particles; first += perChunk)
-    chunks_.push_back({first, std::min(perChunk, scene.particles - first), VK_NULL_HANDLE});
   const uint32_t chunkCount = static_cast<uint32_t>(chunks_.size());
   descriptorPool_ = createStoragePool(device, chunkCount, 2 * chunkCount);
   for (ParticleChunk& chunk : chunks_) {
     chunk.set = allocateSet(device, descriptorPool_, setLayout_);
     writeStorage(device, chunk.set, gpu::kParticleBinding,
-                 {particles_.get(), chunk.first * kParticleBytes, chunk.count * kParticleBytes});
+                 {chunk.buffer, 0, chunk.count * kParticleBytes});
     writeStorage(device, chunk.set, gpu::kScheduleBinding, {schedule_.get(), 0, VK_WHOLE_SIZE});
   }
   load(initialState(scene));
 }
 
 void GpuSimulator::load(const SimState& state) {
-  std::memcpy(staging_.mapped(), state.particles.data(), staging_.size());
   clock_ = state.clock;
-  context_.submitNow([&](VkCommandBuffer commands) {
-    // WAW/WAR: earlier dispatches wrote, and a download read, the particles overwritten here.
-    memoryBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                  VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                  VK_ACCESS_TRANSFER_WRITE_BIT);
-    VkBufferCopy region{0, 0, staging_.size()};
-    vkCmdCopyBuffer(commands, staging_.get(), particles_.get(), 1, &region);
-  });
+  for (const ParticleChunk& chunk : chunks_) {
+    const VkDeviceSize bytes = chunk.count * kParticleBytes;
+    std::memcpy(staging_.mapped(), state.particles.data() + chunk.first, bytes);
+    context_.submitNow([&](VkCommandBuffer commands) {
+      // WAW/WAR: earlier dispatches wrote, and a download read, the particles overwritten here.
+      memoryBarrier(commands,
+                    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                    VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                    VK_ACCESS_TRANSFER_WRITE_BIT);
+      VkBufferCopy region{0, 0, bytes};
+      vkCmdCopyBuffer(commands, staging_.get(), chunk.buffer, 1, &region);
+    });
+  }
 }
 
 SimState GpuSimulator::state() {
-  context_.submitNow([&](VkCommandBuffer commands) {
-    // RAW: step.comp wrote the particles this copy reads.
-    memoryBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-    VkBufferCopy region{0, 0, staging_.size()};
-    vkCmdCopyBuffer(commands, particles_.get(), staging_.get(), 1, &region);
-    // RAW: the host reads what the copy wrote into staging.
-    memoryBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
-  });
   SimState out;
   out.particles.resize(scene_.particles);
-  std::memcpy(out.particles.data(), staging_.mapped(), staging_.size());
+  for (const ParticleChunk& chunk : chunks_) {
+    const VkDeviceSize bytes = chunk.count * kParticleBytes;
+    context_.submitNow([&](VkCommandBuffer commands) {
+      // RAW: step.comp wrote the particles this copy reads.
+      memoryBarrier(commands,
+                    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                    VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+      VkBufferCopy region{0, 0, bytes};
+      vkCmdCopyBuffer(commands, chunk.buffer, staging_.get(), 1, &region);
+      // RAW: the host reads what the copy wrote into staging.
+      memoryBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    });
+    std::memcpy(out.particles.data() + chunk.first, staging_.mapped(), bytes);
+  }
   out.clock = clock_;
   return out;
 }
@@ -156,12 +167,6 @@ void GpuSimulator::recordSteps(VkCommandBuffer commands, uint32_t first, uint32_
       vkCmdDispatch(commands, (invocations + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1, 1);
     }
   }
-}
-
-std::vector<std::pair<uint32_t, uint32_t>> GpuSimulator::chunkRanges() const {
-  std::vector<std::pair<uint32_t, uint32_t>> ranges;
-  for (const ParticleChunk& chunk : chunks_) ranges.emplace_back(chunk.first, chunk.count);
-  return ranges;
 }
 
 void GpuSimulator::advance(uint64_t steps) {

@@ -1,5 +1,6 @@
-// The Vulkan backend: step.comp over one device-local particle buffer, bound in chunks of
-// at most maxStorageBufferRange, many steps per dispatch and many dispatches per submit.
+// The Vulkan backend: step.comp over the particles, held in chunks of at most one binding's
+// range (maxStorageBufferRange) and one allocation, each its own device-local buffer; many
+// steps per dispatch and many dispatches per submit.
 #pragma once
 #include <vector>
 
@@ -10,16 +11,20 @@
 
 namespace lava {
 
-// One binding's range of the particle buffer and the descriptor set that binds it.
+// Particles [first, first + count), the buffer that holds them (from offset 0) and, in the
+// simulator, the descriptor set that binds it for step.comp.
 struct ParticleChunk {
-  uint32_t first;  // first particle of the range
-  uint32_t count;  // particles in it
-  VkDescriptorSet set;
+  uint32_t first;
+  uint32_t count;
+  VkBuffer buffer;
+  VkDescriptorSet set = VK_NULL_HANDLE;
 };
 
-// Particles one binding and one dispatch can cover on this device (a workgroup multiple).
+// Particles one chunk holds on this device: one binding, one dispatch and one allocation
+// cover it (a workgroup multiple).
 uint32_t particlesPerChunk(const Context& context);
-// Largest particle count this device allows (one allocation for the particles).
+// Largest particle count this device allows: its largest device-local heap (chunks are
+// separate allocations), at most 2^31.
 uint64_t maxParticles(const Context& context);
 
 class GpuSimulator final : public Simulator {
@@ -40,9 +45,8 @@ class GpuSimulator final : public Simulator {
   void recordSteps(VkCommandBuffer commands, uint32_t first, uint32_t count) const;
   // Changes parameters that keep the capacity (the demo's live controls).
   void setScene(const Scene& scene);
-  VkBuffer particleBuffer() const { return particles_.get(); }
-  // The [first, first + count) particle ranges one binding each covers.
-  std::vector<std::pair<uint32_t, uint32_t>> chunkRanges() const;
+  // The particles, chunk by chunk (renderers bind the same buffers).
+  const std::vector<ParticleChunk>& chunks() const { return chunks_; }
   const EmissionClock& clock() const { return clock_; }
 
   static constexpr uint32_t kStepsPerDispatch = 256;
@@ -51,8 +55,8 @@ class GpuSimulator final : public Simulator {
  private:
   Context& context_;
   EmissionClock clock_;
-  Buffer particles_;
-  Buffer staging_;
+  std::vector<Buffer> particles_;  // one per chunk
+  Buffer staging_;                 // one chunk's worth, for load() and state()
   Buffer schedule_;
   UniqueDescriptorSetLayout setLayout_;
   UniquePipelineLayout pipelineLayout_;

@@ -105,15 +105,13 @@ void LineRenderer::bind(const GpuSimulator& simulator) {
   splat_.bind(simulator);
   VkDevice device = context_.device();
   chunks_.clear();
-  const auto ranges = simulator.chunkRanges();
-  const uint32_t count = static_cast<uint32_t>(ranges.size());
+  const uint32_t count = static_cast<uint32_t>(simulator.chunks().size());
   descriptorPool_ = createStoragePool(device, count, count);
-  for (const auto& [first, particles] : ranges) {
-    const VkDescriptorSet set = allocateSet(device, descriptorPool_, setLayout_);
-    writeStorage(
-        device, set, gpu::kParticleBinding,
-        {simulator.particleBuffer(), first * sizeof(Particle), particles * sizeof(Particle)});
-    chunks_.push_back({first, particles, set});
+  for (ParticleChunk chunk : simulator.chunks()) {
+    chunk.set = allocateSet(device, descriptorPool_, setLayout_);
+    writeStorage(device, chunk.set, gpu::kParticleBinding,
+                 {chunk.buffer, 0, chunk.count * sizeof(Particle)});
+    chunks_.push_back(chunk);
   }
 }
 

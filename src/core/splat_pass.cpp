@@ -30,8 +30,7 @@ SplatPass::SplatPass(Context& context, VkRenderPass renderPass, const GpuSimulat
 }
 
 void SplatPass::bind(const GpuSimulator& simulator) {
-  particles_ = simulator.particleBuffer();
-  ranges_ = simulator.chunkRanges();
+  chunks_ = simulator.chunks();
   if (extent_.width != 0) writeSets();
 }
 
@@ -47,13 +46,13 @@ void SplatPass::resize(VkExtent2D extent) {
 
 void SplatPass::writeSets() {
   VkDevice device = context_.device();
-  const uint32_t chunks = static_cast<uint32_t>(ranges_.size());
+  const uint32_t chunks = static_cast<uint32_t>(chunks_.size());
   pool_ = createStoragePool(device, chunks + 1, 2 * chunks + 1);
   const VkDescriptorBufferInfo accumulation{accumulation_.get(), 0, VK_WHOLE_SIZE};
   splatSets_.clear();
-  for (const auto& [first, count] : ranges_) {
+  for (const ParticleChunk& chunk : chunks_) {
     const VkDescriptorSet set = allocateSet(device, pool_, splatSetLayout_);
-    writeStorage(device, set, 0, {particles_, first * sizeof(Particle), count * sizeof(Particle)});
+    writeStorage(device, set, 0, {chunk.buffer, 0, chunk.count * sizeof(Particle)});
     writeStorage(device, set, 1, accumulation);
     splatSets_.push_back(set);
   }
@@ -74,13 +73,13 @@ void SplatPass::recordSplat(VkCommandBuffer commands, VkExtent2D extent, gpu::Sp
   vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, splatPipeline_);
   params.target.x = extent.width;
   params.target.y = extent.height;
-  for (size_t c = 0; c < ranges_.size(); ++c) {
-    params.target.z = ranges_[c].second;
+  for (size_t c = 0; c < chunks_.size(); ++c) {
+    params.target.z = chunks_[c].count;
     vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_COMPUTE, splatLayout_, 0, 1,
                             &splatSets_[c], 0, nullptr);
     vkCmdPushConstants(commands, splatLayout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
                        &params);
-    vkCmdDispatch(commands, (ranges_[c].second + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1,
+    vkCmdDispatch(commands, (chunks_[c].count + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1,
                   1);
   }
   // RAW: resolve.frag reads the sums splat.comp wrote.

@@ -31,8 +31,7 @@ class SplatPass {
   UniquePipelineLayout resolveLayout_;
   UniquePipeline splatPipeline_;
   UniquePipeline resolvePipeline_;
-  VkBuffer particles_ = VK_NULL_HANDLE;
-  std::vector<std::pair<uint32_t, uint32_t>> ranges_;
+  std::vector<ParticleChunk> chunks_;  // the simulator's (their sets are not used here)
   VkExtent2D extent_{0, 0};
   Buffer accumulation_;
   UniqueDescriptorPool pool_;
