@@ -173,6 +173,36 @@ TEST_F(RenderTest, SplatAndPipelineLightTheSamePixels) {
   EXPECT_GT(double(litBoth) / double(litSplat), 0.85);
 }
 
+TEST_F(RenderTest, CachedGroundDrawsTheSameImage) {
+  // The second frame of an unchanged view copies the ground from the renderer's cache; it
+  // must look exactly like drawing it. A new view draws again, then caches again.
+  Scene scene;
+  GpuSimulator simulator(context(), scene);
+  simulator.advance(2000);
+  for (LineMode mode : {LineMode::Pipeline, LineMode::Splat}) {
+    LineRenderer renderer(context(), simulator, OffscreenTarget::kColorFormat,
+                          VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    renderer.setMode(mode);
+    OffscreenTarget target(context(), renderer.renderPass(), kSize);
+    const auto drawn = renderOffscreen(context(), renderer, target, camera_, scene);
+    EXPECT_FALSE(renderer.groundWasCopied());
+    // A fresh target: everything in it, depth included, must come from the copy.
+    OffscreenTarget fresh(context(), renderer.renderPass(), kSize);
+    const auto copied = renderOffscreen(context(), renderer, fresh, camera_, scene);
+    EXPECT_TRUE(renderer.groundWasCopied());
+    EXPECT_EQ(drawn, copied);
+
+    OrbitCamera turned = camera_;
+    turned.yaw += 0.5f;
+    const auto turnedDrawn = renderOffscreen(context(), renderer, target, turned, scene);
+    EXPECT_FALSE(renderer.groundWasCopied());
+    EXPECT_NE(turnedDrawn, drawn);
+    const auto turnedCopied = renderOffscreen(context(), renderer, target, turned, scene);
+    EXPECT_TRUE(renderer.groundWasCopied());
+    EXPECT_EQ(turnedDrawn, turnedCopied);
+  }
+}
+
 TEST_F(RenderTest, DefaultSceneLightsManyPixelsOrangeAndRed) {
   const auto image = renderDefaultScene(LineMode::Pipeline);
   size_t lava = 0;

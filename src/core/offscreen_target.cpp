@@ -53,14 +53,27 @@ UniqueImageView createImageView(VkDevice device, VkImage image, VkFormat format,
   return UniqueImageView(device, view);
 }
 
+VkImageUsageFlags copyTargetUsage(const Context& context, VkFormat format) {
+  VkFormatProperties properties;
+  vkGetPhysicalDeviceFormatProperties(context.physicalDevice(), format, &properties);
+  return (properties.optimalTilingFeatures & VK_FORMAT_FEATURE_TRANSFER_DST_BIT)
+             ? VK_IMAGE_USAGE_TRANSFER_DST_BIT
+             : 0;
+}
+
 OffscreenTarget::OffscreenTarget(const Context& context, VkRenderPass renderPass, VkExtent2D extent,
                                  VkFormat colorFormat)
     : extent_(extent),
+      copyable_(copyTargetUsage(context, colorFormat) &&
+                copyTargetUsage(context, LineRenderer::kDepthFormat)),
       color_(createImage(context, extent, colorFormat,
-                         VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                         VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                             (copyable_ ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : 0u),
                          VK_IMAGE_ASPECT_COLOR_BIT)),
       depth_(createImage(context, extent, LineRenderer::kDepthFormat,
-                         VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT)),
+                         VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                             (copyable_ ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : 0u),
+                         VK_IMAGE_ASPECT_DEPTH_BIT)),
       readback_(context, VkDeviceSize{extent.width} * extent.height * 4,
                 VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                 VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT) {
@@ -103,7 +116,7 @@ std::vector<uint8_t> renderOffscreen(const Context& context, LineRenderer& rende
                                      const OffscreenTarget& target, const OrbitCamera& camera,
                                      const Scene& scene) {
   context.submitNow([&](VkCommandBuffer commands) {
-    renderer.record(commands, target.framebuffer(), target.extent(), camera, scene);
+    renderer.record(commands, target.target(), camera, scene);
     target.recordReadback(commands);
   });
   return target.pixels();

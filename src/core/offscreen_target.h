@@ -9,6 +9,19 @@
 
 namespace lava {
 
+// Where LineRenderer::record() draws: a framebuffer of its render pass and its size; and
+// its color and depth images when they were made with TRANSFER_DST usage (else null: the
+// renderer then draws the ground instead of copying its cached one in).
+struct RenderTarget {
+  VkFramebuffer framebuffer = VK_NULL_HANDLE;
+  VkExtent2D extent{0, 0};
+  VkImage color = VK_NULL_HANDLE;
+  VkImage depth = VK_NULL_HANDLE;
+};
+
+// TRANSFER_DST when `format` accepts copies into optimal-tiling images on this device.
+VkImageUsageFlags copyTargetUsage(const Context& context, VkFormat format);
+
 struct ImageWithMemory {
   UniqueImage image;
   UniqueMemory memory;
@@ -31,6 +44,10 @@ class OffscreenTarget {
   OffscreenTarget(const Context& context, VkRenderPass renderPass, VkExtent2D extent,
                   VkFormat colorFormat = kColorFormat);
   VkFramebuffer framebuffer() const { return framebuffer_; }
+  RenderTarget target() const {
+    return {framebuffer_, extent_, copyable_ ? color_.image.get() : VK_NULL_HANDLE,
+            copyable_ ? depth_.image.get() : VK_NULL_HANDLE};
+  }
   VkExtent2D extent() const { return extent_; }
   // After the render pass (color in TRANSFER_SRC_OPTIMAL): copy the image for the host.
   void recordReadback(VkCommandBuffer commands) const;
@@ -41,6 +58,7 @@ class OffscreenTarget {
 
  private:
   VkExtent2D extent_;
+  bool copyable_;
   ImageWithMemory color_;
   ImageWithMemory depth_;
   UniqueFramebuffer framebuffer_;

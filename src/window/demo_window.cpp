@@ -382,8 +382,8 @@ class Demo {
     VK_CHECK(vkWaitForFences(context_.device(), 1, &fence, VK_TRUE, UINT64_MAX));
     readTimings(slot, index);
 
-    const VkFramebuffer framebuffer = presenter_->acquire(index);
-    if (!framebuffer) {
+    const RenderTarget target = presenter_->acquire(index);
+    if (!target.framebuffer) {
       resized_ = true;
       return false;
     }
@@ -413,7 +413,7 @@ class Demo {
     }
     vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, queries_, query + 1);
     renderer_.record(
-        commands, framebuffer, presenter_->extent(), camera_, scene_,
+        commands, target, camera_, scene_,
         [](VkCommandBuffer c) { ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), c); });
     presenter_->recordAfterPass(commands, index);
     vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, query + 2);

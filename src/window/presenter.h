@@ -8,6 +8,8 @@
 #include <optional>
 #include <string>
 
+#include "offscreen_target.h"
+
 namespace lava {
 
 // How `lava demo` presents (--present).
@@ -30,9 +32,9 @@ class Presenter {
   virtual bool resize(VkExtent2D framebufferSize) = 0;
   virtual VkExtent2D extent() const = 0;
 
-  // The framebuffer for `slot`'s next frame, or VK_NULL_HANDLE when the targets are out of
-  // date (resize, then try again).
-  virtual VkFramebuffer acquire(uint32_t slot) = 0;
+  // The target of `slot`'s next frame; its framebuffer is VK_NULL_HANDLE when the targets
+  // are out of date (resize, then try again).
+  virtual RenderTarget acquire(uint32_t slot) = 0;
   // Records what must follow the render pass in the frame's command buffer.
   virtual void recordAfterPass(VkCommandBuffer commands, uint32_t slot) = 0;
   // Submits the frame (signalling `done` when it finished) and presents it; false when the

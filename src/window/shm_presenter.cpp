@@ -194,8 +194,8 @@ bool ShmPresenter::resize(VkExtent2D framebufferSize) {
   return true;
 }
 
-VkFramebuffer ShmPresenter::acquire(uint32_t slot) {
-  return slots_[slot].target ? slots_[slot].target->framebuffer() : VK_NULL_HANDLE;
+RenderTarget ShmPresenter::acquire(uint32_t slot) {
+  return slots_[slot].target ? slots_[slot].target->target() : RenderTarget{};
 }
 
 void ShmPresenter::recordAfterPass(VkCommandBuffer commands, uint32_t slot) {

@@ -47,7 +47,7 @@ class ShmPresenter final : public Presenter {
   uint32_t imageCount() const override { return static_cast<uint32_t>(slots_.size()); }
   bool resize(VkExtent2D framebufferSize) override;
   VkExtent2D extent() const override { return extent_; }
-  VkFramebuffer acquire(uint32_t slot) override;
+  RenderTarget acquire(uint32_t slot) override;
   void recordAfterPass(VkCommandBuffer commands, uint32_t slot) override;
   bool submitAndPresent(VkCommandBuffer commands, VkFence done, uint32_t slot) override;
   void flush() override;

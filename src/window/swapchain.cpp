@@ -103,7 +103,11 @@ bool Swapchain::resize(VkExtent2D framebufferSize) {
   info.imageColorSpace = format_.colorSpace;
   info.imageExtent = extent;
   info.imageArrayLayers = 1;
-  info.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+  copyUsage_ = (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT) &&
+                       copyTargetUsage(context_, LineRenderer::kDepthFormat)
+                   ? VK_IMAGE_USAGE_TRANSFER_DST_BIT
+                   : 0;
+  info.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | copyUsage_;
   info.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE;
   info.preTransform = caps.currentTransform;
   info.compositeAlpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
@@ -122,7 +126,8 @@ bool Swapchain::resize(VkExtent2D framebufferSize) {
   images_.resize(count);
   VK_CHECK(vkGetSwapchainImagesKHR(device, swapchain_, &count, images_.data()));
   depth_ = createImage(context_, extent, LineRenderer::kDepthFormat,
-                       VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
+                       VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | copyUsage_,
+                       VK_IMAGE_ASPECT_DEPTH_BIT);
   for (VkImage image : images_) {
     views_.push_back(createImageView(device, image, format_.format, VK_IMAGE_ASPECT_COLOR_BIT));
     framebuffers_.push_back(
@@ -132,19 +137,22 @@ bool Swapchain::resize(VkExtent2D framebufferSize) {
   return true;
 }
 
-VkFramebuffer Swapchain::acquire(uint32_t slot) {
+RenderTarget Swapchain::acquire(uint32_t slot) {
   const VkResult acquired =
       vkAcquireNextImageKHR(context_.device(), swapchain_, UINT64_MAX, imageAvailable_[slot],
                             VK_NULL_HANDLE, &acquired_);
-  if (acquired == VK_ERROR_OUT_OF_DATE_KHR) return VK_NULL_HANDLE;
+  if (acquired == VK_ERROR_OUT_OF_DATE_KHR) return {};
   if (acquired != VK_SUBOPTIMAL_KHR) VK_CHECK(acquired);
-  return framebuffers_[acquired_];
+  if (!copyUsage_) return {framebuffers_[acquired_], extent_};
+  return {framebuffers_[acquired_], extent_, images_[acquired_], depth_.image};
 }
 
 bool Swapchain::submitAndPresent(VkCommandBuffer commands, VkFence done, uint32_t slot) {
   VkSemaphore wait = imageAvailable_[slot];
   VkSemaphore signal = renderFinished_[acquired_];
-  VkPipelineStageFlags waitStage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+  // The image is first written by the pass or by the copy of the cached ground.
+  VkPipelineStageFlags waitStage =
+      VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   submit.waitSemaphoreCount = 1;
   submit.pWaitSemaphores = &wait;

@@ -26,7 +26,7 @@ class Swapchain final : public Presenter {
   uint32_t imageCount() const override { return static_cast<uint32_t>(images_.size()); }
   bool resize(VkExtent2D framebufferSize) override;
   VkExtent2D extent() const override { return extent_; }
-  VkFramebuffer acquire(uint32_t slot) override;
+  RenderTarget acquire(uint32_t slot) override;
   void recordAfterPass(VkCommandBuffer, uint32_t) override {}
   bool submitAndPresent(VkCommandBuffer commands, VkFence done, uint32_t slot) override;
 
@@ -38,6 +38,7 @@ class Swapchain final : public Presenter {
   VkRenderPass renderPass_;
   VkSurfaceFormatKHR format_;
   VkPresentModeKHR presentMode_ = VK_PRESENT_MODE_FIFO_KHR;
+  VkImageUsageFlags copyUsage_ = 0;  // TRANSFER_DST when the images accept copies
   VkSwapchainKHR swapchain_ = VK_NULL_HANDLE;
   VkExtent2D extent_{0, 0};
   std::vector<VkImage> images_;
