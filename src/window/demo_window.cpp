@@ -288,7 +288,7 @@ class Demo {
     if (!showUi_) return;
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowBgAlpha(0.75f);
-    ImGui::Begin("Lava");
+    ImGui::Begin("Lava", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
     ImGui::Text("%s", context_.properties().deviceName);
     ImGui::Text("%.1f fps   GPU: simulate %.2f ms, draw %.2f ms", fps_, simulateMs_, drawMs_);
     const uint64_t alive = std::min<uint64_t>(simulator_->clock().serial, scene_.particles);
@@ -306,35 +306,40 @@ class Demo {
     if (ImGui::Checkbox("compute line splatting (off: graphics pipeline)", &splat))
       renderer_.setMode(splat ? LineMode::Splat : LineMode::Pipeline);
 
-    Scene s = scene_;
-    float rate = float(s.rate);
-    ImGui::SliderFloat("rate (1/s)", &rate, 0.0f, 100000.0f, "%.0f", ImGuiSliderFlags_Logarithmic);
-    s.rate = rate;
-    ImGui::SliderFloat("dt (s)", &s.dt, 0.0001f, 0.01f, "%.4f", ImGuiSliderFlags_Logarithmic);
-    ImGui::SliderFloat("gravity (m/s2)", &s.gravity, -20.0f, 30.0f);
-    ImGui::SliderFloat("restitution", &s.restitution, 0.0f, 1.0f);
-    ImGui::SliderFloat("friction (kept)", &s.friction, 0.0f, 1.0f);
-    ImGui::SliderFloat("line scale (s)", &s.lineScale, 0.0f, 0.2f);
-    ImGui::SliderFloat3("emitter (m)", &s.emitter.x, -3.0f, 3.0f);
-    ImGui::SliderFloat("emitter radius (m)", &s.emitterRadius, 0.0f, 2.0f);
-    ImGui::SliderFloat3("velocity (m/s)", &s.velocity.x, -15.0f, 15.0f);
-    ImGui::SliderFloat3("spread (m/s)", &s.spread.x, 0.0f, 8.0f);
-    ImGui::SliderFloat("mass (kg)", &s.mass, 0.05f, 20.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
-    ImGui::SliderFloat3("wind (N)", &s.wind.x, -10.0f, 10.0f);
-    ImGui::SliderFloat("drag (N s/m)", &s.drag, 0.0f, 5.0f);
-    int seed = int(s.seed & 0x7fffffff);
-    ImGui::InputInt("seed", &seed);
-    s.seed = uint32_t(std::max(seed, 0));
-    s.dt = std::max(s.dt, 1e-5f);
-    s.mass = std::max(s.mass, 1e-3f);
-    scene_ = s;
-    simulator_->setScene(scene_);
+    // Closed at start: the panel is drawn every frame, and on a CPU device a short panel
+    // costs a fraction of a long one (docs/benchmarks.md).
+    if (ImGui::CollapsingHeader("scene parameters")) {
+      Scene s = scene_;
+      float rate = float(s.rate);
+      ImGui::SliderFloat("rate (1/s)", &rate, 0.0f, 100000.0f, "%.0f",
+                         ImGuiSliderFlags_Logarithmic);
+      s.rate = rate;
+      ImGui::SliderFloat("dt (s)", &s.dt, 0.0001f, 0.01f, "%.4f", ImGuiSliderFlags_Logarithmic);
+      ImGui::SliderFloat("gravity (m/s2)", &s.gravity, -20.0f, 30.0f);
+      ImGui::SliderFloat("restitution", &s.restitution, 0.0f, 1.0f);
+      ImGui::SliderFloat("friction (kept)", &s.friction, 0.0f, 1.0f);
+      ImGui::SliderFloat("line scale (s)", &s.lineScale, 0.0f, 0.2f);
+      ImGui::SliderFloat3("emitter (m)", &s.emitter.x, -3.0f, 3.0f);
+      ImGui::SliderFloat("emitter radius (m)", &s.emitterRadius, 0.0f, 2.0f);
+      ImGui::SliderFloat3("velocity (m/s)", &s.velocity.x, -15.0f, 15.0f);
+      ImGui::SliderFloat3("spread (m/s)", &s.spread.x, 0.0f, 8.0f);
+      ImGui::SliderFloat("mass (kg)", &s.mass, 0.05f, 20.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
+      ImGui::SliderFloat3("wind (N)", &s.wind.x, -10.0f, 10.0f);
+      ImGui::SliderFloat("drag (N s/m)", &s.drag, 0.0f, 5.0f);
+      int seed = int(s.seed & 0x7fffffff);
+      ImGui::InputInt("seed", &seed);
+      s.seed = uint32_t(std::max(seed, 0));
+      s.dt = std::max(s.dt, 1e-5f);
+      s.mass = std::max(s.mass, 1e-3f);
+      scene_ = s;
+      simulator_->setScene(scene_);
 
-    ImGui::InputInt("particles", &pendingParticles_, 1024, 65536);
-    pendingParticles_ =
-        std::clamp(pendingParticles_, 1, int(std::min<uint64_t>(maxParticles(context_), 1u << 30)));
-    ImGui::SameLine();
-    if (ImGui::Button("restart")) restart_ = true;
+      ImGui::InputInt("particles", &pendingParticles_, 1024, 65536);
+      pendingParticles_ = std::clamp(pendingParticles_, 1,
+                                     int(std::min<uint64_t>(maxParticles(context_), 1u << 30)));
+      ImGui::SameLine();
+      if (ImGui::Button("restart")) restart_ = true;
+    }
     ImGui::TextDisabled("drag: orbit  right-drag: height  wheel: zoom  H: hide");
     ImGui::End();
   }
@@ -412,9 +417,9 @@ class Demo {
       simulator_->recordSteps(commands, first, steps);
     }
     vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, queries_, query + 1);
-    renderer_.record(
-        commands, target, camera_, scene_,
-        [](VkCommandBuffer c) { ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), c); });
+    renderer_.record(commands, target, camera_, scene_, [](VkCommandBuffer c) {
+      ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), c);
+    });
     presenter_->recordAfterPass(commands, index);
     vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, query + 2);
     VK_CHECK(vkEndCommandBuffer(commands));
