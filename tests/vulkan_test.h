@@ -13,6 +13,7 @@ inline ContextOptions validatedOptions() {
   ContextOptions options;
   options.validation = true;
   options.syncValidation = true;
+  options.hostImport = true;
   return options;
 }
 

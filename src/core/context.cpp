@@ -63,6 +63,20 @@ const char* deviceTypeName(VkPhysicalDeviceType type) {
   }
 }
 
+namespace {
+
+bool hasDeviceExtension(VkPhysicalDevice device, const char* name) {
+  uint32_t count = 0;
+  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr);
+  std::vector<VkExtensionProperties> extensions(count);
+  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data());
+  for (const VkExtensionProperties& e : extensions)
+    if (std::strcmp(e.extensionName, name) == 0) return true;
+  return false;
+}
+
+}  // namespace
+
 Context::Context(const ContextOptions& options) {
   if (options.validation && !hasLayer(kValidationLayer))
     throw ResourceError(
@@ -136,6 +150,16 @@ Context::Context(const ContextOptions& options) {
     queueInfo.pQueuePriorities = &priority;
     std::vector<const char*> deviceExtensions;
     if (options.swapchain) deviceExtensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+    if (options.hostImport &&
+        hasDeviceExtension(physical_, VK_EXT_EXTERNAL_MEMORY_HOST_EXTENSION_NAME)) {
+      deviceExtensions.push_back(VK_EXT_EXTERNAL_MEMORY_HOST_EXTENSION_NAME);
+      VkPhysicalDeviceExternalMemoryHostPropertiesEXT host{
+          VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_EXTERNAL_MEMORY_HOST_PROPERTIES_EXT};
+      VkPhysicalDeviceProperties2 properties2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+      properties2.pNext = &host;
+      vkGetPhysicalDeviceProperties2(physical_, &properties2);
+      hostImportAlignment_ = host.minImportedHostPointerAlignment;
+    }
     VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     deviceInfo.queueCreateInfoCount = 1;
     deviceInfo.pQueueCreateInfos = &queueInfo;

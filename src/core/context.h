@@ -18,6 +18,7 @@ struct ContextOptions {
   std::optional<unsigned> deviceIndex;  // explicit choice; else LAVA_DEVICE, else the best
   std::vector<const char*> instanceExtensions;  // e.g. from glfwGetRequiredInstanceExtensions
   bool swapchain = false;                       // enable VK_KHR_swapchain on the device
+  bool hostImport = false;  // enable VK_EXT_external_memory_host where the device has it
 };
 
 struct DeviceSummary {
@@ -51,6 +52,9 @@ class Context {
   VkDeviceSize maxAllocationSize() const { return maxAllocation_; }
   // Size of the largest device-local memory heap.
   VkDeviceSize deviceMemory() const { return deviceMemory_; }
+  // Whether buffers can use host memory in place (VK_EXT_external_memory_host enabled), and
+  // the alignment of such a pointer and size (0 when not).
+  VkDeviceSize hostImportAlignment() const { return hostImportAlignment_; }
   uint32_t findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags wanted) const;
 
   // Allocates a primary command buffer, records it with `record`, submits and waits.
@@ -79,6 +83,7 @@ class Context {
   VkPhysicalDeviceMemoryProperties memory_{};
   VkDeviceSize maxAllocation_ = 0;
   VkDeviceSize deviceMemory_ = 0;
+  VkDeviceSize hostImportAlignment_ = 0;
   uint32_t queueFamily_ = 0;
   VkDevice device_ = VK_NULL_HANDLE;
   VkQueue queue_ = VK_NULL_HANDLE;

@@ -62,7 +62,7 @@ VkImageUsageFlags copyTargetUsage(const Context& context, VkFormat format) {
 }
 
 OffscreenTarget::OffscreenTarget(const Context& context, VkRenderPass renderPass, VkExtent2D extent,
-                                 VkFormat colorFormat)
+                                 VkFormat colorFormat, void* readbackHost)
     : extent_(extent),
       copyable_(copyTargetUsage(context, colorFormat) &&
                 copyTargetUsage(context, LineRenderer::kDepthFormat)),
@@ -74,9 +74,12 @@ OffscreenTarget::OffscreenTarget(const Context& context, VkRenderPass renderPass
                          VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
                              (copyable_ ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : 0u),
                          VK_IMAGE_ASPECT_DEPTH_BIT)),
-      readback_(context, VkDeviceSize{extent.width} * extent.height * 4,
-                VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT) {
+      readback_(readbackHost
+                    ? Buffer(context, readbackHost, readbackBytes(extent),
+                             VK_BUFFER_USAGE_TRANSFER_DST_BIT)
+                    : Buffer(context, readbackBytes(extent), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                             VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                 VK_MEMORY_PROPERTY_HOST_COHERENT_BIT)) {
   framebuffer_ = createFramebuffer(context.device(), renderPass, color_.view, depth_.view, extent);
 }
 

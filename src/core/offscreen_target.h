@@ -41,8 +41,13 @@ class OffscreenTarget {
  public:
   static constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 
+  // `readbackHost`: host memory the read-back writes into in place (VK_EXT_external_memory_
+  // host; aligned, at least readbackBytes() rounded up to the alignment); null: its own.
   OffscreenTarget(const Context& context, VkRenderPass renderPass, VkExtent2D extent,
-                  VkFormat colorFormat = kColorFormat);
+                  VkFormat colorFormat = kColorFormat, void* readbackHost = nullptr);
+  static VkDeviceSize readbackBytes(VkExtent2D extent) {
+    return VkDeviceSize{extent.width} * extent.height * 4;
+  }
   VkFramebuffer framebuffer() const { return framebuffer_; }
   RenderTarget target() const {
     return {framebuffer_, extent_, copyable_ ? color_.image.get() : VK_NULL_HANDLE,

@@ -82,9 +82,10 @@ struct ShmPresenter::Segment {
   bool attached = false;
   bool putPending = false;  // the server may still be reading it
 
-  Segment(const X11& x11, VkExtent2D extent) : display(x11.display) {
+  // `alignment`: the segment's size is a multiple of it (for importing it as device memory).
+  Segment(const X11& x11, VkExtent2D extent, VkDeviceSize alignment = 1) : display(x11.display) {
     try {
-      create(x11, extent);
+      create(x11, extent, alignment);
     } catch (...) {
       release();
       throw;
@@ -93,12 +94,13 @@ struct ShmPresenter::Segment {
   ~Segment() { release(); }
 
  private:
-  void create(const X11& x11, VkExtent2D extent) {
+  void create(const X11& x11, VkExtent2D extent, VkDeviceSize alignment) {
     image = XShmCreateImage(display, x11.visual, unsigned(x11.depth), ZPixmap, nullptr, &info,
                             extent.width, extent.height);
     if (!image) throw ShmUnavailable("XShmCreateImage failed");
     if (image->bits_per_pixel != 32) throw ShmUnavailable("the window's pixels are not 32-bit");
-    const size_t bytes = size_t(image->bytes_per_line) * extent.height;
+    const size_t bytes =
+        (size_t(image->bytes_per_line) * extent.height + alignment - 1) / alignment * alignment;
     info.shmid = shmget(IPC_PRIVATE, bytes, IPC_CREAT | 0600);
     if (info.shmid < 0)
       throw ResourceError("shmget of " + std::to_string(bytes) +
@@ -183,19 +185,36 @@ ShmPresenter::~ShmPresenter() {
 bool ShmPresenter::resize(VkExtent2D framebufferSize) {
   VK_CHECK(vkDeviceWaitIdle(context_.device()));
   pending_ = false;  // drawn for the old size: dropped
-  for (Slot& slot : slots_) slot = Slot{};
+  for (Slot& slot : slots_) {
+    slot.target.reset();  // its read-back may use the segment's memory
+    slot.segment.reset();
+  }
   extent_ = {0, 0};
   if (framebufferSize.width == 0 || framebufferSize.height == 0) return false;
+  const VkDeviceSize alignment = context_.hostImportAlignment();
   for (Slot& slot : slots_) {
-    slot.target = std::make_unique<OffscreenTarget>(context_, renderPass_, framebufferSize, kFormat);
-    slot.segment = std::make_unique<Segment>(*x11_, framebufferSize);
+    slot.segment =
+        std::make_unique<Segment>(*x11_, framebufferSize, std::max<VkDeviceSize>(alignment, 1));
+    // The read-back writes straight into the segment when the device can use host memory
+    // and the rows are packed; else put() copies it there.
+    const XImage* image = slot.segment->image;
+    slot.inPlace = alignment != 0 &&
+                   size_t(image->bytes_per_line) == size_t(framebufferSize.width) * 4 &&
+                   reinterpret_cast<uintptr_t>(image->data) % alignment == 0;
+    slot.target = std::make_unique<OffscreenTarget>(context_, renderPass_, framebufferSize, kFormat,
+                                                    slot.inPlace ? image->data : nullptr);
   }
   extent_ = framebufferSize;
   return true;
 }
 
 RenderTarget ShmPresenter::acquire(uint32_t slot) {
-  return slots_[slot].target ? slots_[slot].target->target() : RenderTarget{};
+  if (!slots_[slot].target) return {};
+  if (slots_[slot].segment->putPending) {  // the server must be done reading it before it is
+    XSync(x11_->display, False);           // written again (by the read-back or by put())
+    for (Slot& s : slots_) s.segment->putPending = false;
+  }
+  return slots_[slot].target->target();
 }
 
 void ShmPresenter::recordAfterPass(VkCommandBuffer commands, uint32_t slot) {
@@ -224,14 +243,12 @@ void ShmPresenter::flush() {
 void ShmPresenter::put(uint32_t index) {
   Slot& slot = slots_[index];
   Segment& segment = *slot.segment;
-  if (segment.putPending) {  // the server must be done reading before we overwrite it
-    XSync(x11_->display, False);
-    for (Slot& s : slots_) s.segment->putPending = false;
-  }
   const size_t row = size_t(extent_.width) * 4;
   const uint8_t* source = slot.target->mappedPixels();
   XImage* image = segment.image;
-  if (size_t(image->bytes_per_line) == row) {
+  if (slot.inPlace) {
+    // The read-back already wrote the segment.
+  } else if (size_t(image->bytes_per_line) == row) {
     std::memcpy(image->data, source, row * extent_.height);
   } else {
     for (uint32_t y = 0; y < extent_.height; ++y)

@@ -56,9 +56,10 @@ class ShmPresenter final : public Presenter {
   struct Segment;  // one slot's shared-memory XImage
 
  private:
-  struct Slot {
-    std::unique_ptr<OffscreenTarget> target;
+  struct Slot {  // the segment first: the target's read-back may use its memory
     std::unique_ptr<Segment> segment;
+    std::unique_ptr<OffscreenTarget> target;
+    bool inPlace = false;  // the read-back writes the segment itself
   };
   void put(uint32_t slot);
 
