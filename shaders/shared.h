@@ -24,6 +24,9 @@ const uint kParticlesPerInvocation = 4u;
 // Descriptor bindings of the simulation and drawing pipelines.
 const uint kParticleBinding = 0u;
 const uint kScheduleBinding = 1u;
+// The same particles read as RGBA32F texels (posAge, velMass): on llvmpipe a texel fetch
+// is a branch-free gather, a storage-buffer load a bounds-checked loop over the lanes.
+const uint kParticleTexelBinding = 2u;
 // Random-stream components drawn per emitted particle: 3 for velocity, then disc tries.
 const uint kVelocityComponents = 3u;
 // Rejection-sampling tries for the emitter disc; all failing has odds (1-pi/4)^16 < 2e-11

@@ -8,9 +8,9 @@
 
 layout(local_size_x_id = 0) in;
 
-layout(std430, binding = 0) restrict readonly buffer Particles {
-  Particle particles[];
-};
+// The particles as RGBA32F texels (posAge, velMass): llvmpipe gathers texel fetches
+// without the per-lane bounds-checked loop it runs for a storage-buffer load.
+layout(binding = 0) uniform samplerBuffer particles;
 layout(std430, binding = 1) restrict buffer Accumulation {
   uint accumulation[];
 };
@@ -23,7 +23,7 @@ const uint kMaxPixels = 256u;  // longer lines are cut (they are rare and off-sc
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= s.target.z) return;
-  Particle q = particles[i];
+  Particle q = Particle(texelFetch(particles, int(2u * i)), texelFetch(particles, int(2u * i + 1u)));
   if (q.posAge.w < 0.0) return;  // never emitted: draws nothing
   vec3 v = q.velMass.xyz;
   vec4 a = s.viewProj * vec4(q.posAge.xyz, 1.0);

@@ -7,9 +7,10 @@
 
 layout(local_size_x_id = 0) in;
 
-layout(std430, binding = kParticleBinding) restrict buffer Particles {
+layout(std430, binding = kParticleBinding) writeonly buffer Particles {
   Particle particles[];
 };
+layout(binding = kParticleTexelBinding) uniform samplerBuffer particleTexels;  // same memory
 layout(std430, binding = kScheduleBinding) restrict readonly buffer Schedule {
   EmitEntry schedule[];
 };
@@ -64,7 +65,10 @@ State load(uint local) {
   const uint capacity = p.run.y;
   const uint firstEntry = p.run.z;
   const uint steps = p.run.w;
-  Particle q = particles[local];
+  // Read through the texel view: each invocation reads its particles before it writes them,
+  // and other invocations touch other particles.
+  Particle q = Particle(texelFetch(particleTexels, int(2u * local)),
+                        texelFetch(particleTexels, int(2u * local + 1u)));
   State st = State(q.posAge.xyz, q.velMass.xyz, q.posAge.w, q.velMass.w, 0u);
   uint slot = p.chunk.x + local;
   uvec4 start = schedule[firstEntry].ring;

@@ -8,9 +8,16 @@ namespace lava {
 
 UniqueDescriptorSetLayout createStorageSetLayout(VkDevice device, uint32_t count,
                                                  VkShaderStageFlags stages) {
+  return createSetLayout(
+      device, std::vector<VkDescriptorType>(count, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER), stages);
+}
+
+UniqueDescriptorSetLayout createSetLayout(VkDevice device,
+                                          const std::vector<VkDescriptorType>& types,
+                                          VkShaderStageFlags stages) {
+  const uint32_t count = static_cast<uint32_t>(types.size());
   std::vector<VkDescriptorSetLayoutBinding> bindings(count);
-  for (uint32_t b = 0; b < count; ++b)
-    bindings[b] = {b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages, nullptr};
+  for (uint32_t b = 0; b < count; ++b) bindings[b] = {b, types[b], 1, stages, nullptr};
   VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   info.bindingCount = count;
   info.pBindings = bindings.data();
@@ -33,11 +40,15 @@ UniquePipelineLayout createPipelineLayout(VkDevice device, VkDescriptorSetLayout
 }
 
 UniqueDescriptorPool createStoragePool(VkDevice device, uint32_t sets, uint32_t descriptors) {
-  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, descriptors};
+  return createPool(device, sets, {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, descriptors}});
+}
+
+UniqueDescriptorPool createPool(VkDevice device, uint32_t sets,
+                                const std::vector<VkDescriptorPoolSize>& sizes) {
   VkDescriptorPoolCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   info.maxSets = sets;
-  info.poolSizeCount = 1;
-  info.pPoolSizes = &size;
+  info.poolSizeCount = static_cast<uint32_t>(sizes.size());
+  info.pPoolSizes = sizes.data();
   VkDescriptorPool pool = VK_NULL_HANDLE;
   VK_CHECK(vkCreateDescriptorPool(device, &info, nullptr, &pool));
   return UniqueDescriptorPool(device, pool);
@@ -61,6 +72,27 @@ void writeStorage(VkDevice device, VkDescriptorSet set, uint32_t binding,
   write.descriptorCount = 1;
   write.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   write.pBufferInfo = &range;
+  vkUpdateDescriptorSets(device, 1, &write, 0, nullptr);
+}
+
+UniqueBufferView createTexelView(VkDevice device, VkBuffer buffer, VkDeviceSize range) {
+  VkBufferViewCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+  info.buffer = buffer;
+  info.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+  info.offset = 0;
+  info.range = range;
+  VkBufferView view = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateBufferView(device, &info, nullptr, &view));
+  return UniqueBufferView(device, view);
+}
+
+void writeTexels(VkDevice device, VkDescriptorSet set, uint32_t binding, VkBufferView view) {
+  VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  write.dstSet = set;
+  write.dstBinding = binding;
+  write.descriptorCount = 1;
+  write.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  write.pTexelBufferView = &view;
   vkUpdateDescriptorSets(device, 1, &write, 0, nullptr);
 }
 

@@ -44,29 +44,38 @@ GpuSimulator::GpuSimulator(Context& context, const Scene& scene)
   for (uint32_t first = 0; first < scene.particles; first += perChunk) {
     const uint32_t count = std::min(perChunk, scene.particles - first);
     particles_.emplace_back(context, VkDeviceSize{count} * kParticleBytes,
-                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                                VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                                VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                             VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
     chunks_.push_back({first, count, particles_.back().get()});
   }
-  staging_ = Buffer(context, VkDeviceSize{chunks_.front().count} * kParticleBytes,
-                    VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                    hostMemory);
+  staging_ =
+      Buffer(context, VkDeviceSize{chunks_.front().count} * kParticleBytes,
+             VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, hostMemory);
   schedule_ = Buffer(context, kStepsPerSubmit * sizeof(gpu::EmitEntry),
                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, hostMemory);
   planned_.resize(kStepsPerSubmit + 1);
 
   VkDevice device = context.device();
-  setLayout_ = createStorageSetLayout(device, 2, VK_SHADER_STAGE_COMPUTE_BIT);
+  setLayout_ =
+      createSetLayout(device,
+                      {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                       VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+                      VK_SHADER_STAGE_COMPUTE_BIT);
   pipelineLayout_ = createPipelineLayout(device, setLayout_, VK_SHADER_STAGE_COMPUTE_BIT,
                                          sizeof(gpu::StepParams));
   pipeline_ = createComputePipeline(device, pipelineLayout_, kStepCompSpv, sizeof(kStepCompSpv),
                                     gpu::kWorkgroupSize);
 
   const uint32_t chunkCount = static_cast<uint32_t>(chunks_.size());
-  descriptorPool_ = createStoragePool(device, chunkCount, 2 * chunkCount);
+  descriptorPool_ = createPool(device, chunkCount,
+                               {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * chunkCount},
+                                {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, chunkCount}});
   for (ParticleChunk& chunk : chunks_) {
     chunk.set = allocateSet(device, descriptorPool_, setLayout_);
+    texelViews_.push_back(createTexelView(device, chunk.buffer, chunk.count * kParticleBytes));
+    writeTexels(device, chunk.set, gpu::kParticleTexelBinding, texelViews_.back());
     writeStorage(device, chunk.set, gpu::kParticleBinding,
                  {chunk.buffer, 0, chunk.count * kParticleBytes});
     writeStorage(device, chunk.set, gpu::kScheduleBinding, {schedule_.get(), 0, VK_WHOLE_SIZE});
@@ -81,8 +90,7 @@ void GpuSimulator::load(const SimState& state) {
     std::memcpy(staging_.mapped(), state.particles.data() + chunk.first, bytes);
     context_.submitNow([&](VkCommandBuffer commands) {
       // WAW/WAR: earlier dispatches wrote, and a download read, the particles overwritten here.
-      memoryBarrier(commands,
-                    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+      memoryBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                     VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                     VK_ACCESS_TRANSFER_WRITE_BIT);
       VkBufferCopy region{0, 0, bytes};
@@ -98,8 +106,7 @@ SimState GpuSimulator::state() {
     const VkDeviceSize bytes = chunk.count * kParticleBytes;
     context_.submitNow([&](VkCommandBuffer commands) {
       // RAW: step.comp wrote the particles this copy reads.
-      memoryBarrier(commands,
-                    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+      memoryBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                     VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
                     VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
       VkBufferCopy region{0, 0, bytes};

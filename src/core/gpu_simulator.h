@@ -63,6 +63,7 @@ class GpuSimulator final : public Simulator {
   UniquePipeline pipeline_;
   UniqueDescriptorPool descriptorPool_;
   std::vector<ParticleChunk> chunks_;
+  std::vector<UniqueBufferView> texelViews_;  // per chunk: its particles as RGBA32F texels
   std::vector<uint64_t> planned_;
   uint32_t stepsPerDispatch_ =
       kStepsPerDispatch;  // births before each planned entry (host copy of sums.x)

@@ -99,8 +99,8 @@ void toTransferDst(VkCommandBuffer commands, VkImage image, VkImageAspectFlags a
   barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   barrier.image = image;
   barrier.subresourceRange = {aspect, 0, 1, 0, 1};
-  vkCmdPipelineBarrier(commands, after, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
-                       nullptr, 1, &barrier);
+  vkCmdPipelineBarrier(commands, after, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr,
+                       1, &barrier);
 }
 
 void copyImage(VkCommandBuffer commands, VkImage from, VkImage to, VkImageAspectFlags aspect,
@@ -228,10 +228,10 @@ bool LineRenderer::prepareCache(VkCommandBuffer commands, const RenderTarget& ta
       c.color = createImage(context_, c.extent, colorFormat_,
                             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                             VK_IMAGE_ASPECT_COLOR_BIT);
-      c.depth = createImage(context_, c.extent, kDepthFormat,
-                            VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
-                                VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                            VK_IMAGE_ASPECT_DEPTH_BIT);
+      c.depth =
+          createImage(context_, c.extent, kDepthFormat,
+                      VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                      VK_IMAGE_ASPECT_DEPTH_BIT);
       c.framebuffer = createFramebuffer(context_.device(), backgroundPass_, c.color.view,
                                         c.depth.view, c.extent);
     }
@@ -244,10 +244,10 @@ bool LineRenderer::prepareCache(VkCommandBuffer commands, const RenderTarget& ta
   toTransferDst(commands, target.color, VK_IMAGE_ASPECT_COLOR_BIT,
                 VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                 VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT);
-  toTransferDst(commands, target.depth, VK_IMAGE_ASPECT_DEPTH_BIT,
-                VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
-                    VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT,
-                VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+  toTransferDst(
+      commands, target.depth, VK_IMAGE_ASPECT_DEPTH_BIT,
+      VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT,
+      VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
   copyImage(commands, c.color.image, target.color, VK_IMAGE_ASPECT_COLOR_BIT, c.extent);
   copyImage(commands, c.depth.image, target.depth, VK_IMAGE_ASPECT_DEPTH_BIT, c.extent);
   return true;

@@ -62,7 +62,7 @@ class LineRenderer {
 
   Context& context_;
   VkFormat colorFormat_;
-  bool cacheable_;  // the color and depth formats accept copies
+  bool cacheable_;               // the color and depth formats accept copies
   UniqueRenderPass renderPass_;  // PassKind::Clear
   UniqueRenderPass loadPass_;
   UniqueRenderPass backgroundPass_;

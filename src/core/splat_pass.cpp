@@ -12,7 +12,9 @@ namespace lava {
 SplatPass::SplatPass(Context& context, VkRenderPass renderPass, const GpuSimulator& simulator)
     : context_(context) {
   VkDevice device = context.device();
-  splatSetLayout_ = createStorageSetLayout(device, 2, VK_SHADER_STAGE_COMPUTE_BIT);
+  splatSetLayout_ = createSetLayout(
+      device, {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+      VK_SHADER_STAGE_COMPUTE_BIT);
   resolveSetLayout_ = createStorageSetLayout(device, 1, VK_SHADER_STAGE_FRAGMENT_BIT);
   splatLayout_ = createPipelineLayout(device, splatSetLayout_, VK_SHADER_STAGE_COMPUTE_BIT,
                                       sizeof(gpu::SplatParams));
@@ -47,12 +49,16 @@ void SplatPass::resize(VkExtent2D extent) {
 void SplatPass::writeSets() {
   VkDevice device = context_.device();
   const uint32_t chunks = static_cast<uint32_t>(chunks_.size());
-  pool_ = createStoragePool(device, chunks + 1, 2 * chunks + 1);
+  pool_ = createPool(device, chunks + 1,
+                     {{VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, chunks},
+                      {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, chunks + 1}});
+  views_.clear();
   const VkDescriptorBufferInfo accumulation{accumulation_.get(), 0, VK_WHOLE_SIZE};
   splatSets_.clear();
   for (const ParticleChunk& chunk : chunks_) {
     const VkDescriptorSet set = allocateSet(device, pool_, splatSetLayout_);
-    writeStorage(device, set, 0, {chunk.buffer, 0, chunk.count * sizeof(Particle)});
+    views_.push_back(createTexelView(device, chunk.buffer, chunk.count * sizeof(Particle)));
+    writeTexels(device, set, 0, views_.back());
     writeStorage(device, set, 1, accumulation);
     splatSets_.push_back(set);
   }

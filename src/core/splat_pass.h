@@ -35,6 +35,7 @@ class SplatPass {
   VkExtent2D extent_{0, 0};
   Buffer accumulation_;
   UniqueDescriptorPool pool_;
+  std::vector<UniqueBufferView> views_;     // each chunk's particles as RGBA32F texels
   std::vector<VkDescriptorSet> splatSets_;  // one per particle chunk
   VkDescriptorSet resolveSet_ = VK_NULL_HANDLE;
 };

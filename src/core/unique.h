@@ -39,6 +39,7 @@ class Unique {
 };
 
 using UniqueBuffer = Unique<VkBuffer, vkDestroyBuffer>;
+using UniqueBufferView = Unique<VkBufferView, vkDestroyBufferView>;
 using UniqueMemory = Unique<VkDeviceMemory, vkFreeMemory>;
 using UniqueShaderModule = Unique<VkShaderModule, vkDestroyShaderModule>;
 using UniqueDescriptorSetLayout = Unique<VkDescriptorSetLayout, vkDestroyDescriptorSetLayout>;

@@ -23,8 +23,8 @@ class NoDisplay : public std::runtime_error {
 struct DemoOptions {
   Scene scene;
   VkExtent2D size{1280, 720};
-  uint32_t frames = 0;    // exit after this many presented frames; 0: until the window closes
-  bool vsync = false;     // FIFO presentation; else mailbox or immediate when offered
+  uint32_t frames = 0;  // exit after this many presented frames; 0: until the window closes
+  bool vsync = false;   // FIFO presentation; else mailbox or immediate when offered
   std::optional<PresentPath> present;  // unset: MIT-SHM for CPU devices on X11, else swapchain
   bool exercise = false;  // resize, minimise and restore the window on a schedule (tests)
   LineMode lines = LineMode::Pipeline;

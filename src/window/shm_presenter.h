@@ -35,8 +35,7 @@ class ShmPresenter final : public Presenter {
 
   // Throws ShmUnavailable when the window is not on X11, the server lacks MIT-SHM or is
   // remote (it cannot attach our segment), or the window's visual is not 32-bit BGRX.
-  ShmPresenter(const Context& context, GLFWwindow* window, VkRenderPass renderPass,
-               uint32_t slots);
+  ShmPresenter(const Context& context, GLFWwindow* window, VkRenderPass renderPass, uint32_t slots);
   // Whether the constructor would succeed for this window; if not, why (in `why`).
   static bool available(GLFWwindow* window, std::string* why);
   ~ShmPresenter() override;

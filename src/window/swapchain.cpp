@@ -138,9 +138,8 @@ bool Swapchain::resize(VkExtent2D framebufferSize) {
 }
 
 RenderTarget Swapchain::acquire(uint32_t slot) {
-  const VkResult acquired =
-      vkAcquireNextImageKHR(context_.device(), swapchain_, UINT64_MAX, imageAvailable_[slot],
-                            VK_NULL_HANDLE, &acquired_);
+  const VkResult acquired = vkAcquireNextImageKHR(
+      context_.device(), swapchain_, UINT64_MAX, imageAvailable_[slot], VK_NULL_HANDLE, &acquired_);
   if (acquired == VK_ERROR_OUT_OF_DATE_KHR) return {};
   if (acquired != VK_SUBOPTIMAL_KHR) VK_CHECK(acquired);
   if (!copyUsage_) return {framebuffers_[acquired_], extent_};
