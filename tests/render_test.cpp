@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdlib>
+#include <memory>
 
 #include "line_renderer.h"
 #include "offscreen_target.h"
@@ -200,6 +202,38 @@ TEST_F(RenderTest, CachedGroundDrawsTheSameImage) {
     const auto turnedCopied = renderOffscreen(context(), renderer, target, turned, scene);
     EXPECT_TRUE(renderer.groundWasCopied());
     EXPECT_EQ(turnedDrawn, turnedCopied);
+  }
+}
+
+TEST_F(RenderTest, HostMemoryTargetDrawsTheSameImage) {
+  // The MIT-SHM presenter renders into the X server's shared memory: a linear color image
+  // over host memory must show what the usual target shows, and so must its fallback.
+  ASSERT_TRUE(OffscreenTarget::hostColorSupported(context(), OffscreenTarget::kColorFormat))
+      << "lavapipe can render into host memory";
+  Scene scene;
+  GpuSimulator simulator(context(), scene);
+  simulator.advance(2000);
+  const auto bytes = OffscreenTarget::hostBytes(context(), kSize, OffscreenTarget::kColorFormat);
+  ASSERT_TRUE(bytes) << "rows packed at 320x240";
+  std::unique_ptr<void, decltype(&std::free)> host(
+      std::aligned_alloc(context().hostImportAlignment(), *bytes), &std::free);
+  for (LineMode mode : {LineMode::Pipeline, LineMode::Splat}) {
+    LineRenderer usual(context(), simulator, OffscreenTarget::kColorFormat,
+                       VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    usual.setMode(mode);
+    OffscreenTarget image(context(), usual.renderPass(), kSize);
+    LineRenderer general(context(), simulator, OffscreenTarget::kColorFormat,
+                         VK_IMAGE_LAYOUT_GENERAL);
+    general.setMode(mode);
+    OffscreenTarget inHost(context(), general.renderPass(), kSize, OffscreenTarget::kColorFormat,
+                           host.get());
+    EXPECT_EQ(inHost.mappedPixels(), host.get());
+    const auto expected = renderOffscreen(context(), usual, image, camera_, scene);
+    EXPECT_EQ(expected, renderOffscreen(context(), general, inHost, camera_, scene));
+    // The presenter's fallback: read back from GENERAL.
+    OffscreenTarget readBack(context(), general.renderPass(), kSize, OffscreenTarget::kColorFormat,
+                             VK_IMAGE_LAYOUT_GENERAL);
+    EXPECT_EQ(expected, renderOffscreen(context(), general, readBack, camera_, scene));
   }
 }
 

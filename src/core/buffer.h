@@ -10,10 +10,6 @@ class Buffer {
   Buffer() = default;
   Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usage,
          VkMemoryPropertyFlags memory);
-  // A host-visible buffer over `size` bytes of the caller's memory at `host`, used in place
-  // (VK_EXT_external_memory_host; both aligned to Context::hostImportAlignment()). The
-  // memory must outlive the buffer.
-  Buffer(const Context& context, void* host, VkDeviceSize size, VkBufferUsageFlags usage);
   Buffer(Buffer&&) = default;
   Buffer& operator=(Buffer&&) = default;
   ~Buffer();

@@ -1,5 +1,6 @@
 #include "offscreen_target.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "descriptors.h"
@@ -62,8 +63,9 @@ VkImageUsageFlags copyTargetUsage(const Context& context, VkFormat format) {
 }
 
 OffscreenTarget::OffscreenTarget(const Context& context, VkRenderPass renderPass, VkExtent2D extent,
-                                 VkFormat colorFormat, void* readbackHost)
+                                 VkFormat colorFormat, VkImageLayout finalLayout)
     : extent_(extent),
+      finalLayout_(finalLayout),
       copyable_(copyTargetUsage(context, colorFormat) &&
                 copyTargetUsage(context, LineRenderer::kDepthFormat)),
       color_(createImage(context, extent, colorFormat,
@@ -74,12 +76,126 @@ OffscreenTarget::OffscreenTarget(const Context& context, VkRenderPass renderPass
                          VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
                              (copyable_ ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : 0u),
                          VK_IMAGE_ASPECT_DEPTH_BIT)),
-      readback_(readbackHost
-                    ? Buffer(context, readbackHost, readbackBytes(extent),
-                             VK_BUFFER_USAGE_TRANSFER_DST_BIT)
-                    : Buffer(context, readbackBytes(extent), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                             VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
-                                 VK_MEMORY_PROPERTY_HOST_COHERENT_BIT)) {
+      readback_(context, VkDeviceSize{extent.width} * extent.height * 4,
+                VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT) {
+  framebuffer_ = createFramebuffer(context.device(), renderPass, color_.view, depth_.view, extent);
+}
+
+namespace {
+
+constexpr auto kHostHandle = VK_EXTERNAL_MEMORY_HANDLE_TYPE_HOST_ALLOCATION_BIT_EXT;
+constexpr VkImageUsageFlags kHostColorUsage =
+    VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+
+VkImageCreateInfo hostColorInfo(VkExtent2D extent, VkFormat format,
+                                const VkExternalMemoryImageCreateInfo* external) {
+  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  info.pNext = external;
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = format;
+  info.extent = {extent.width, extent.height, 1};
+  info.mipLevels = 1;
+  info.arrayLayers = 1;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_LINEAR;
+  info.usage = kHostColorUsage;
+  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  return info;
+}
+
+UniqueImage createHostColorImage(VkDevice device, VkExtent2D extent, VkFormat format) {
+  VkExternalMemoryImageCreateInfo external{VK_STRUCTURE_TYPE_EXTERNAL_MEMORY_IMAGE_CREATE_INFO};
+  external.handleTypes = kHostHandle;
+  const VkImageCreateInfo info = hostColorInfo(extent, format, &external);
+  VkImage image = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateImage(device, &info, nullptr, &image));
+  return UniqueImage(device, image);
+}
+
+// A linear color image over the caller's memory at `host` (hostBytes() long).
+ImageWithMemory importHostColorImage(const Context& context, VkExtent2D extent, VkFormat format,
+                                     void* host) {
+  const std::optional<VkDeviceSize> bytes = OffscreenTarget::hostBytes(context, extent, format);
+  if (!bytes) throw ResourceError("this device pads the rows of a linear color image");
+  VkDevice device = context.device();
+  ImageWithMemory out;
+  out.image = createHostColorImage(device, extent, format);
+  auto hostPointerProperties = reinterpret_cast<PFN_vkGetMemoryHostPointerPropertiesEXT>(
+      vkGetDeviceProcAddr(device, "vkGetMemoryHostPointerPropertiesEXT"));
+  VkMemoryHostPointerPropertiesEXT pointer{VK_STRUCTURE_TYPE_MEMORY_HOST_POINTER_PROPERTIES_EXT};
+  VK_CHECK(hostPointerProperties(device, kHostHandle, host, &pointer));
+  VkMemoryRequirements requirements;
+  vkGetImageMemoryRequirements(device, out.image, &requirements);
+  VkImportMemoryHostPointerInfoEXT import{VK_STRUCTURE_TYPE_IMPORT_MEMORY_HOST_POINTER_INFO_EXT};
+  import.handleType = kHostHandle;
+  import.pHostPointer = host;
+  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  alloc.pNext = &import;
+  alloc.allocationSize = *bytes;
+  alloc.memoryTypeIndex = context.findMemoryType(
+      requirements.memoryTypeBits & pointer.memoryTypeBits,
+      VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VK_CHECK(vkAllocateMemory(device, &alloc, nullptr, &memory));
+  out.memory = UniqueMemory(device, memory);
+  VK_CHECK(vkBindImageMemory(device, out.image, memory, 0));
+  out.view = createImageView(device, out.image, format, VK_IMAGE_ASPECT_COLOR_BIT);
+  return out;
+}
+
+}  // namespace
+
+bool OffscreenTarget::hostColorSupported(const Context& context, VkFormat colorFormat) {
+  if (context.hostImportAlignment() == 0) return false;
+  VkPhysicalDeviceExternalImageFormatInfo external{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_EXTERNAL_IMAGE_FORMAT_INFO};
+  external.handleType = kHostHandle;
+  VkPhysicalDeviceImageFormatInfo2 info{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_IMAGE_FORMAT_INFO_2};
+  info.pNext = &external;
+  info.format = colorFormat;
+  info.type = VK_IMAGE_TYPE_2D;
+  info.tiling = VK_IMAGE_TILING_LINEAR;
+  info.usage = kHostColorUsage;
+  VkExternalImageFormatProperties externalProperties{
+      VK_STRUCTURE_TYPE_EXTERNAL_IMAGE_FORMAT_PROPERTIES};
+  VkImageFormatProperties2 properties{VK_STRUCTURE_TYPE_IMAGE_FORMAT_PROPERTIES_2};
+  properties.pNext = &externalProperties;
+  return vkGetPhysicalDeviceImageFormatProperties2(context.physicalDevice(), &info, &properties) ==
+             VK_SUCCESS &&
+         (externalProperties.externalMemoryProperties.externalMemoryFeatures &
+          VK_EXTERNAL_MEMORY_FEATURE_IMPORTABLE_BIT) &&
+         copyTargetUsage(context, LineRenderer::kDepthFormat);
+}
+
+std::optional<VkDeviceSize> OffscreenTarget::hostBytes(const Context& context, VkExtent2D extent,
+                                                       VkFormat colorFormat) {
+  VkDevice device = context.device();
+  const UniqueImage probe = createHostColorImage(device, extent, colorFormat);
+  VkImageSubresource color{VK_IMAGE_ASPECT_COLOR_BIT, 0, 0};
+  VkSubresourceLayout layout;
+  vkGetImageSubresourceLayout(device, probe, &color, &layout);
+  if (layout.offset != 0 || layout.rowPitch != VkDeviceSize{extent.width} * 4) return {};
+  VkMemoryRequirements requirements;
+  vkGetImageMemoryRequirements(device, probe, &requirements);
+  const VkDeviceSize alignment =
+      std::max<VkDeviceSize>({context.hostImportAlignment(), requirements.alignment, 1});
+  const VkDeviceSize bytes =
+      std::max(requirements.size, VkDeviceSize{extent.width} * extent.height * 4);
+  return (bytes + alignment - 1) / alignment * alignment;
+}
+
+OffscreenTarget::OffscreenTarget(const Context& context, VkRenderPass renderPass, VkExtent2D extent,
+                                 VkFormat colorFormat, void* host)
+    : extent_(extent),
+      finalLayout_(VK_IMAGE_LAYOUT_GENERAL),
+      host_(host),
+      copyable_(true),
+      color_(importHostColorImage(context, extent, colorFormat, host)),
+      depth_(
+          createImage(context, extent, LineRenderer::kDepthFormat,
+                      VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                      VK_IMAGE_ASPECT_DEPTH_BIT)) {
   framebuffer_ = createFramebuffer(context.device(), renderPass, color_.view, depth_.view, extent);
 }
 
@@ -99,6 +215,27 @@ UniqueFramebuffer createFramebuffer(VkDevice device, VkRenderPass renderPass, Vk
 }
 
 void OffscreenTarget::recordReadback(VkCommandBuffer commands) const {
+  if (host_) {
+    // RAW: the host reads what the pass wrote, in place.
+    memoryBarrier(commands, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                  VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                  VK_ACCESS_HOST_READ_BIT);
+    return;
+  }
+  if (finalLayout_ != VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL) {
+    // RAW: the copy reads what the pass wrote; into the layout copies read best.
+    VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+    barrier.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    barrier.oldLayout = finalLayout_;
+    barrier.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    barrier.image = color_.image;
+    barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                         VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr, 1, &barrier);
+  }
   VkBufferImageCopy region{};
   region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
   region.imageExtent = {extent_.width, extent_.height, 1};
@@ -110,8 +247,8 @@ void OffscreenTarget::recordReadback(VkCommandBuffer commands) const {
 }
 
 std::vector<uint8_t> OffscreenTarget::pixels() const {
-  std::vector<uint8_t> out(readback_.size());
-  std::memcpy(out.data(), readback_.mapped(), out.size());
+  std::vector<uint8_t> out(size_t(extent_.width) * extent_.height * 4);
+  std::memcpy(out.data(), mappedPixels(), out.size());
   return out;
 }
 

@@ -2,6 +2,7 @@
 // host-visible buffer the color image is copied into for reading back.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "buffer.h"
@@ -41,28 +42,41 @@ class OffscreenTarget {
  public:
   static constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 
-  // `readbackHost`: host memory the read-back writes into in place (VK_EXT_external_memory_
-  // host; aligned, at least readbackBytes() rounded up to the alignment); null: its own.
+  // `finalLayout`: the color image's layout after the render pass.
   OffscreenTarget(const Context& context, VkRenderPass renderPass, VkExtent2D extent,
-                  VkFormat colorFormat = kColorFormat, void* readbackHost = nullptr);
-  static VkDeviceSize readbackBytes(VkExtent2D extent) {
-    return VkDeviceSize{extent.width} * extent.height * 4;
-  }
+                  VkFormat colorFormat = kColorFormat,
+                  VkImageLayout finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+  // A target whose color image is a linear image in the caller's host memory at `host`
+  // (VK_EXT_external_memory_host, aligned to Context::hostImportAlignment(), *hostBytes()
+  // long): the pass writes the pixels there, rows packed, with no read-back copy. The pass
+  // must leave it in GENERAL. Check hostColorSupported() and hostBytes() first.
+  OffscreenTarget(const Context& context, VkRenderPass renderPass, VkExtent2D extent,
+                  VkFormat colorFormat, void* host);
+  static bool hostColorSupported(const Context& context, VkFormat colorFormat);
+  // The host memory such a target needs at this size, or nothing when the device would
+  // pad its rows (the pixels would not be packed).
+  static std::optional<VkDeviceSize> hostBytes(const Context& context, VkExtent2D extent,
+                                               VkFormat colorFormat);
   VkFramebuffer framebuffer() const { return framebuffer_; }
   RenderTarget target() const {
     return {framebuffer_, extent_, copyable_ ? color_.image.get() : VK_NULL_HANDLE,
             copyable_ ? depth_.image.get() : VK_NULL_HANDLE};
   }
   VkExtent2D extent() const { return extent_; }
-  // After the render pass (color in TRANSFER_SRC_OPTIMAL): copy the image for the host.
+  // After the render pass: copy the image for the host (or, in host memory, only make the
+  // pass's writes visible to it).
   void recordReadback(VkCommandBuffer commands) const;
   // RGBA8 pixels, row-major from the top-left, once the readback was submitted and waited on.
   std::vector<uint8_t> pixels() const;
   // The same pixels in place: 4 bytes each, rows of extent().width, no padding.
-  const uint8_t* mappedPixels() const { return static_cast<const uint8_t*>(readback_.mapped()); }
+  const uint8_t* mappedPixels() const {
+    return static_cast<const uint8_t*>(host_ ? host_ : readback_.mapped());
+  }
 
  private:
   VkExtent2D extent_;
+  VkImageLayout finalLayout_;
+  void* host_ = nullptr;  // the color image's memory, when it is the caller's
   bool copyable_;
   ImageWithMemory color_;
   ImageWithMemory depth_;

@@ -4,8 +4,10 @@
 #include <sys/ipc.h>
 #include <sys/shm.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <optional>
 
 #include "vk_check.h"
 
@@ -82,10 +84,10 @@ struct ShmPresenter::Segment {
   bool attached = false;
   bool putPending = false;  // the server may still be reading it
 
-  // `alignment`: the segment's size is a multiple of it (for importing it as device memory).
-  Segment(const X11& x11, VkExtent2D extent, VkDeviceSize alignment = 1) : display(x11.display) {
+  // `atLeast`: bytes the segment must hold beyond the image (to import it as device memory).
+  Segment(const X11& x11, VkExtent2D extent, size_t atLeast = 0) : display(x11.display) {
     try {
-      create(x11, extent, alignment);
+      create(x11, extent, atLeast);
     } catch (...) {
       release();
       throw;
@@ -94,13 +96,12 @@ struct ShmPresenter::Segment {
   ~Segment() { release(); }
 
  private:
-  void create(const X11& x11, VkExtent2D extent, VkDeviceSize alignment) {
+  void create(const X11& x11, VkExtent2D extent, size_t atLeast) {
     image = XShmCreateImage(display, x11.visual, unsigned(x11.depth), ZPixmap, nullptr, &info,
                             extent.width, extent.height);
     if (!image) throw ShmUnavailable("XShmCreateImage failed");
     if (image->bits_per_pixel != 32) throw ShmUnavailable("the window's pixels are not 32-bit");
-    const size_t bytes =
-        (size_t(image->bytes_per_line) * extent.height + alignment - 1) / alignment * alignment;
+    const size_t bytes = std::max(size_t(image->bytes_per_line) * extent.height, atLeast);
     info.shmid = shmget(IPC_PRIVATE, bytes, IPC_CREAT | 0600);
     if (info.shmid < 0)
       throw ResourceError("shmget of " + std::to_string(bytes) +
@@ -186,23 +187,29 @@ bool ShmPresenter::resize(VkExtent2D framebufferSize) {
   VK_CHECK(vkDeviceWaitIdle(context_.device()));
   pending_ = false;  // drawn for the old size: dropped
   for (Slot& slot : slots_) {
-    slot.target.reset();  // its read-back may use the segment's memory
+    slot.target.reset();  // its color image may live in the segment's memory
     slot.segment.reset();
   }
   extent_ = {0, 0};
   if (framebufferSize.width == 0 || framebufferSize.height == 0) return false;
-  const VkDeviceSize alignment = context_.hostImportAlignment();
+  // The pass renders straight into the segment when the device can use host memory for a
+  // packed linear image; else the frame is read back and put() copies it there.
+  const VkDeviceSize alignment = std::max<VkDeviceSize>(context_.hostImportAlignment(), 1);
+  std::optional<VkDeviceSize> hostBytes;
+  if (OffscreenTarget::hostColorSupported(context_, kFormat))
+    hostBytes = OffscreenTarget::hostBytes(context_, framebufferSize, kFormat);
   for (Slot& slot : slots_) {
-    slot.segment =
-        std::make_unique<Segment>(*x11_, framebufferSize, std::max<VkDeviceSize>(alignment, 1));
-    // The read-back writes straight into the segment when the device can use host memory
-    // and the rows are packed; else put() copies it there.
+    slot.segment = std::make_unique<Segment>(*x11_, framebufferSize, hostBytes.value_or(0));
     const XImage* image = slot.segment->image;
-    slot.inPlace = alignment != 0 &&
+    slot.inPlace = hostBytes &&
                    size_t(image->bytes_per_line) == size_t(framebufferSize.width) * 4 &&
                    reinterpret_cast<uintptr_t>(image->data) % alignment == 0;
-    slot.target = std::make_unique<OffscreenTarget>(context_, renderPass_, framebufferSize, kFormat,
-                                                    slot.inPlace ? image->data : nullptr);
+    if (slot.inPlace)
+      slot.target = std::make_unique<OffscreenTarget>(context_, renderPass_, framebufferSize,
+                                                      kFormat, static_cast<void*>(image->data));
+    else
+      slot.target = std::make_unique<OffscreenTarget>(context_, renderPass_, framebufferSize,
+                                                      kFormat, kFinalLayout);
   }
   extent_ = framebufferSize;
   return true;
@@ -211,7 +218,7 @@ bool ShmPresenter::resize(VkExtent2D framebufferSize) {
 RenderTarget ShmPresenter::acquire(uint32_t slot) {
   if (!slots_[slot].target) return {};
   if (slots_[slot].segment->putPending) {  // the server must be done reading it before it is
-    XSync(x11_->display, False);           // written again (by the read-back or by put())
+    XSync(x11_->display, False);           // written again (by the pass or by put())
     for (Slot& s : slots_) s.segment->putPending = false;
   }
   return slots_[slot].target->target();
@@ -247,7 +254,7 @@ void ShmPresenter::put(uint32_t index) {
   const uint8_t* source = slot.target->mappedPixels();
   XImage* image = segment.image;
   if (slot.inPlace) {
-    // The read-back already wrote the segment.
+    // The pass drew into the segment itself.
   } else if (size_t(image->bytes_per_line) == row) {
     std::memcpy(image->data, source, row * extent_.height);
   } else {

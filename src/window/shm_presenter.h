@@ -2,8 +2,9 @@
 // sends every frame through the X socket as one PutImage request when the server has no
 // DRI3 (Xvfb, Xvnc, ...): at 1280x720 the server's and the client's share of that copy
 // costs more CPU than drawing 262,144 lines (docs/benchmarks.md). Here each frame slot
-// renders into its own offscreen image, copies it into a host buffer, and once the frame
-// finished, the pixels go into a System V shared-memory XImage the server reads in place.
+// has a System V shared-memory XImage the server reads in place, and renders straight into
+// it: a linear color image over that memory (VK_EXT_external_memory_host). Where the
+// device cannot, the slot renders offscreen, reads the frame back and copies it there.
 //
 // A frame is put on screen right after the next one was submitted, so the CPU copies one
 // frame while the device draws the next; presentation lags one frame behind submission.
@@ -31,7 +32,8 @@ class ShmPresenter final : public Presenter {
  public:
   // The render pass's color format: the byte order of a 24-bit TrueColor X visual.
   static constexpr VkFormat kFormat = VK_FORMAT_B8G8R8A8_UNORM;
-  static constexpr VkImageLayout kFinalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+  // The host reads the pass's output in place (or a read-back copies it from there).
+  static constexpr VkImageLayout kFinalLayout = VK_IMAGE_LAYOUT_GENERAL;
 
   // Throws ShmUnavailable when the window is not on X11, the server lacks MIT-SHM or is
   // remote (it cannot attach our segment), or the window's visual is not 32-bit BGRX.
@@ -58,7 +60,7 @@ class ShmPresenter final : public Presenter {
   struct Slot {  // the segment first: the target's read-back may use its memory
     std::unique_ptr<Segment> segment;
     std::unique_ptr<OffscreenTarget> target;
-    bool inPlace = false;  // the read-back writes the segment itself
+    bool inPlace = false;  // the pass renders into the segment itself
   };
   void put(uint32_t slot);
 
