@@ -29,5 +29,9 @@ void writeTexels(VkDevice device, VkDescriptorSet set, uint32_t binding, VkBuffe
 // One global memory barrier; callers name the hazard in a comment.
 void memoryBarrier(VkCommandBuffer commands, VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
                    VkPipelineStageFlags dstStage, VkAccessFlags dstAccess);
+// One image barrier over the single mip and layer of `image`, with a layout change.
+void imageBarrier(VkCommandBuffer commands, VkImage image, VkImageAspectFlags aspect,
+                  VkImageLayout from, VkImageLayout to, VkPipelineStageFlags srcStage,
+                  VkAccessFlags srcAccess, VkPipelineStageFlags dstStage, VkAccessFlags dstAccess);
 
 }  // namespace lava

@@ -90,17 +90,9 @@ UniqueRenderPass createRenderPass(VkDevice device, VkFormat colorFormat, PassKin
 // accesses that last used it (a previous frame's pass or read-back).
 void toTransferDst(VkCommandBuffer commands, VkImage image, VkImageAspectFlags aspect,
                    VkPipelineStageFlags after, VkAccessFlags written) {
-  VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-  barrier.srcAccessMask = written;
-  barrier.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-  barrier.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  barrier.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-  barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  barrier.image = image;
-  barrier.subresourceRange = {aspect, 0, 1, 0, 1};
-  vkCmdPipelineBarrier(commands, after, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr,
-                       1, &barrier);
+  imageBarrier(commands, image, aspect, VK_IMAGE_LAYOUT_UNDEFINED,
+               VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, after, written, VK_PIPELINE_STAGE_TRANSFER_BIT,
+               VK_ACCESS_TRANSFER_WRITE_BIT);
 }
 
 void copyImage(VkCommandBuffer commands, VkImage from, VkImage to, VkImageAspectFlags aspect,

@@ -9,9 +9,11 @@
 
 namespace lava {
 
-ImageWithMemory createImage(const Context& context, VkExtent2D extent, VkFormat format,
-                            VkImageUsageFlags usage, VkImageAspectFlags aspect) {
-  VkDevice device = context.device();
+namespace {
+
+// A single-sample 2D image, one mip and one layer, starting UNDEFINED.
+VkImageCreateInfo imageInfo(VkExtent2D extent, VkFormat format, VkImageUsageFlags usage,
+                            VkImageTiling tiling) {
   VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
   info.imageType = VK_IMAGE_TYPE_2D;
   info.format = format;
@@ -19,9 +21,18 @@ ImageWithMemory createImage(const Context& context, VkExtent2D extent, VkFormat 
   info.mipLevels = 1;
   info.arrayLayers = 1;
   info.samples = VK_SAMPLE_COUNT_1_BIT;
-  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.tiling = tiling;
   info.usage = usage;
   info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  return info;
+}
+
+}  // namespace
+
+ImageWithMemory createImage(const Context& context, VkExtent2D extent, VkFormat format,
+                            VkImageUsageFlags usage, VkImageAspectFlags aspect) {
+  VkDevice device = context.device();
+  const VkImageCreateInfo info = imageInfo(extent, format, usage, VK_IMAGE_TILING_OPTIMAL);
   VkImage image = VK_NULL_HANDLE;
   VK_CHECK(vkCreateImage(device, &info, nullptr, &image));
   ImageWithMemory out;
@@ -70,11 +81,11 @@ OffscreenTarget::OffscreenTarget(const Context& context, VkRenderPass renderPass
                 copyTargetUsage(context, LineRenderer::kDepthFormat)),
       color_(createImage(context, extent, colorFormat,
                          VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
-                             (copyable_ ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : 0u),
+                             copyTargetUsage(context, colorFormat),
                          VK_IMAGE_ASPECT_COLOR_BIT)),
       depth_(createImage(context, extent, LineRenderer::kDepthFormat,
                          VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
-                             (copyable_ ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : 0u),
+                             copyTargetUsage(context, LineRenderer::kDepthFormat),
                          VK_IMAGE_ASPECT_DEPTH_BIT)),
       readback_(context, VkDeviceSize{extent.width} * extent.height * 4,
                 VK_BUFFER_USAGE_TRANSFER_DST_BIT,
@@ -88,26 +99,11 @@ constexpr auto kHostHandle = VK_EXTERNAL_MEMORY_HANDLE_TYPE_HOST_ALLOCATION_BIT_
 constexpr VkImageUsageFlags kHostColorUsage =
     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
 
-VkImageCreateInfo hostColorInfo(VkExtent2D extent, VkFormat format,
-                                const VkExternalMemoryImageCreateInfo* external) {
-  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-  info.pNext = external;
-  info.imageType = VK_IMAGE_TYPE_2D;
-  info.format = format;
-  info.extent = {extent.width, extent.height, 1};
-  info.mipLevels = 1;
-  info.arrayLayers = 1;
-  info.samples = VK_SAMPLE_COUNT_1_BIT;
-  info.tiling = VK_IMAGE_TILING_LINEAR;
-  info.usage = kHostColorUsage;
-  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  return info;
-}
-
 UniqueImage createHostColorImage(VkDevice device, VkExtent2D extent, VkFormat format) {
   VkExternalMemoryImageCreateInfo external{VK_STRUCTURE_TYPE_EXTERNAL_MEMORY_IMAGE_CREATE_INFO};
   external.handleTypes = kHostHandle;
-  const VkImageCreateInfo info = hostColorInfo(extent, format, &external);
+  VkImageCreateInfo info = imageInfo(extent, format, kHostColorUsage, VK_IMAGE_TILING_LINEAR);
+  info.pNext = &external;
   VkImage image = VK_NULL_HANDLE;
   VK_CHECK(vkCreateImage(device, &info, nullptr, &image));
   return UniqueImage(device, image);
@@ -224,17 +220,11 @@ void OffscreenTarget::recordReadback(VkCommandBuffer commands) const {
   }
   if (finalLayout_ != VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL) {
     // RAW: the copy reads what the pass wrote; into the layout copies read best.
-    VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-    barrier.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-    barrier.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-    barrier.oldLayout = finalLayout_;
-    barrier.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-    barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    barrier.image = color_.image;
-    barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
-                         VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr, 1, &barrier);
+    imageBarrier(commands, color_.image, VK_IMAGE_ASPECT_COLOR_BIT, finalLayout_,
+                 VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                 VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                 VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                 VK_ACCESS_TRANSFER_READ_BIT);
   }
   VkBufferImageCopy region{};
   region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
