@@ -4,6 +4,7 @@
 # 1. each line renderer and each presentation path for 400 frames with resizes, a minimise
 #    and a restore (--exercise);
 # 2. without MIT-SHM on the server: the swapchain is chosen, and --present shm is refused;
+#    on a 16-bit display, which no path can present to, the demo renders headless;
 # 3. the keyboard: P (screenshot), Space (pause), N (step), R (reset), H (hide the panel)
 #    and Esc (quit), typed with xdotool into the focused window; the screenshot must appear.
 set -u
@@ -43,6 +44,16 @@ echo "no MIT-SHM, --present shm: $out"
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+
+# A 16-bit display, which the driver cannot present to: headless frames, saying why.
+out=$(xvfb-run -a -s "-screen 0 640x360x16" "$lava" demo --frames 2 --size 160x90 \
+      --out "$work/depth16" 2>&1)
+status=$?
+echo "16-bit display: $out"
+[ $status -eq 0 ] || { echo "FAIL: lava demo on a 16-bit display exited $status"; exit 1; }
+echo "$out" | grep -q 'depth 24); rendering headless instead' ||
+  { echo "FAIL: no reason given for rendering headless"; exit 1; }
+[ -s "$work/depth16/frame_00001.png" ] || { echo "FAIL: no headless frames"; exit 1; }
 cat > "$work/keys.sh" <<KEYS
 cd "$work"
 timeout 120 "$lava" demo --size 640x360 > demo.txt 2>&1 &

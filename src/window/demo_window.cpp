@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <optional>
 
 #include "camera.h"
 #include "context.h"
@@ -105,6 +106,19 @@ PresentPath choosePresentPath(const DemoOptions& options, const Context& context
   return ShmPresenter::available(window, nullptr) ? PresentPath::Shm : PresentPath::Swapchain;
 }
 
+// The render pass's color format for `path`. A window the driver cannot present to at all
+// (a 16-bit X display: Mesa presents to depth 24 and 32 only) is no display for the demo.
+VkSurfaceFormatKHR windowFormat(PresentPath path, const Context& context, VkSurfaceKHR surface) {
+  if (path == PresentPath::Shm)
+    return {ShmPresenter::kFormat, VK_COLOR_SPACE_SRGB_NONLINEAR_KHR};
+  const std::optional<VkSurfaceFormatKHR> format = Swapchain::chooseFormat(context, surface);
+  if (!format)
+    throw NoDisplay(
+        "the window surface offers no formats (the driver presents to 24- and 32-bit X "
+        "displays: run the X server at depth 24)");
+  return *format;
+}
+
 class Demo {
  public:
   explicit Demo(const DemoOptions& options)
@@ -114,9 +128,7 @@ class Demo {
         context_(windowContextOptions(options)),
         surface_(context_.instance(), window_.handle),
         path_(choosePresentPath(options, context_, window_.handle)),
-        format_(path_ == PresentPath::Shm
-                    ? VkSurfaceFormatKHR{ShmPresenter::kFormat, VK_COLOR_SPACE_SRGB_NONLINEAR_KHR}
-                    : Swapchain::chooseFormat(context_, surface_.handle)),
+        format_(windowFormat(path_, context_, surface_.handle)),
         simulator_(std::make_unique<GpuSimulator>(context_, scene_)),
         renderer_(context_, *simulator_, format_.format,
                   path_ == PresentPath::Shm ? ShmPresenter::kFinalLayout

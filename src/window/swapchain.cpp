@@ -17,14 +17,15 @@ UniqueSemaphore createSemaphore(VkDevice device) {
 
 }  // namespace
 
-VkSurfaceFormatKHR Swapchain::chooseFormat(const Context& context, VkSurfaceKHR surface) {
+std::optional<VkSurfaceFormatKHR> Swapchain::chooseFormat(const Context& context,
+                                                          VkSurfaceKHR surface) {
   uint32_t count = 0;
   VK_CHECK(
       vkGetPhysicalDeviceSurfaceFormatsKHR(context.physicalDevice(), surface, &count, nullptr));
   std::vector<VkSurfaceFormatKHR> formats(count);
   VK_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(context.physicalDevice(), surface, &count,
                                                 formats.data()));
-  if (formats.empty()) throw ResourceError("the window surface offers no formats");
+  if (formats.empty()) return std::nullopt;
   // UNORM like the offscreen target, so window and PNG frames look the same.
   for (const VkSurfaceFormatKHR& f : formats)
     if ((f.format == VK_FORMAT_B8G8R8A8_UNORM || f.format == VK_FORMAT_R8G8B8A8_UNORM) &&

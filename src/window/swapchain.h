@@ -2,6 +2,7 @@
 // its image views, a depth image and one framebuffer per image, recreated whole when the
 // window changes size.
 #pragma once
+#include <optional>
 #include <vector>
 
 #include "context.h"
@@ -12,8 +13,10 @@ namespace lava {
 
 class Swapchain final : public Presenter {
  public:
-  // The color format the render pass must use for this surface.
-  static VkSurfaceFormatKHR chooseFormat(const Context& context, VkSurfaceKHR surface);
+  // The color format the render pass must use for this surface; none when the surface
+  // offers none (Mesa presents to X visuals of depth 24 and 32 only).
+  static std::optional<VkSurfaceFormatKHR> chooseFormat(const Context& context,
+                                                        VkSurfaceKHR surface);
 
   // `renderPass` renders into images of `format` and leaves them in PRESENT_SRC_KHR.
   Swapchain(const Context& context, VkSurfaceKHR surface, VkRenderPass renderPass,
