@@ -150,6 +150,9 @@ const BadInput kBadInputs[] = {
     {"bench --json results.txt", "--json"},
     {"frobnicate", "frobnicate"},
     {"simulate --steps 10 extra", "extra"},
+    {"simulate --steps 10 --steps 20", "--steps: given 2 times; give it once"},
+    {"simulate --steps", "--steps: needs a value (steps to run"},
+    {"demo --frames", "--frames: needs a value"},
     {"", "subcommand"},
 };
 INSTANTIATE_TEST_SUITE_P(Flags, HostileInput, ::testing::ValuesIn(kBadInputs), caseName);

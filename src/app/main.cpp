@@ -3,10 +3,36 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <regex>
+#include <string>
 #include <vector>
 
 #include "commands.h"
 #include "vk_check.h"
+
+namespace {
+
+// CLI11's messages, in the form every other usage error takes: the flag, then what is
+// accepted. A repeated flag and a flag without its value are the two it words its own way.
+std::string usageMessage(const CLI::App& app, const char* command, const CLI::ParseError& error) {
+  const std::string what = error.what();
+  static const std::regex repeated(R"(^(-[-\w]+): At Most 1 required but received (\d+)$)");
+  static const std::regex missing(R"(^(-[-\w]+): \d+ required \w+ missing$)");
+  std::smatch m;
+  if (std::regex_match(what, m, repeated))
+    return m[1].str() + ": given " + m[2].str() + " times; give it once";
+  if (std::regex_match(what, m, missing)) {
+    std::string accepted;
+    for (const CLI::App* sub : app.get_subcommands({}))
+      if (command && sub->get_name() == command)
+        if (const CLI::Option* option = sub->get_option_no_throw(m[1].str()))
+          accepted = " (" + option->get_description() + ")";
+    return m[1].str() + ": needs a value" + accepted;
+  }
+  return what + " (see 'lava --help')";
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"Lava: a Vulkan compute-shader particle engine (the lava crater)", "lava"};
@@ -39,7 +65,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "lava: %s (see 'lava --help')\n", e.what());
+    std::fprintf(stderr, "lava: %s\n", usageMessage(app, argc > 1 ? argv[1] : nullptr, e).c_str());
     return 2;
   }
 
