@@ -75,7 +75,8 @@ GpuSimulator::GpuSimulator(Context& context, const Scene& scene)
   for (ParticleChunk& chunk : chunks_) {
     chunk.set = allocateSet(device, descriptorPool_, setLayout_);
     texelViews_.push_back(createTexelView(device, chunk.buffer, chunk.count * kParticleBytes));
-    writeTexels(device, chunk.set, gpu::kParticleTexelBinding, texelViews_.back());
+    chunk.texels = texelViews_.back();
+    writeTexels(device, chunk.set, gpu::kParticleTexelBinding, chunk.texels);
     writeStorage(device, chunk.set, gpu::kParticleBinding,
                  {chunk.buffer, 0, chunk.count * kParticleBytes});
     writeStorage(device, chunk.set, gpu::kScheduleBinding, {schedule_.get(), 0, VK_WHOLE_SIZE});

@@ -11,12 +11,14 @@
 
 namespace lava {
 
-// Particles [first, first + count), the buffer that holds them (from offset 0) and, in the
-// simulator, the descriptor set that binds it for step.comp.
+// Particles [first, first + count), the buffer that holds them (from offset 0), its view as
+// RGBA32F texels (posAge, velMass per particle) and, in the simulator, the descriptor set
+// that binds it for step.comp.
 struct ParticleChunk {
   uint32_t first;
   uint32_t count;
   VkBuffer buffer;
+  VkBufferView texels = VK_NULL_HANDLE;
   VkDescriptorSet set = VK_NULL_HANDLE;
 };
 

@@ -203,7 +203,6 @@ bool LineRenderer::prepareCache(VkCommandBuffer commands, const RenderTarget& ta
     c.viewProj = params.viewProj;
     c.crater = params.crater;
     c.drawn = false;
-    c.repeated = false;
     if (c.extent.width != target.extent.width || c.extent.height != target.extent.height) {
       VK_CHECK(vkDeviceWaitIdle(context_.device()));  // earlier frames may still copy from it
       c.color = {};
@@ -213,7 +212,6 @@ bool LineRenderer::prepareCache(VkCommandBuffer commands, const RenderTarget& ta
     }
     return false;
   }
-  c.repeated = true;
   if (!cacheable_ || !target.color || !target.depth) return false;
   if (!c.drawn) {
     if (!c.color.image) {

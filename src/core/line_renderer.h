@@ -52,7 +52,6 @@ class LineRenderer {
     VkExtent2D extent{0, 0};
     glm::mat4 viewProj{0.0f};
     glm::vec4 crater{0.0f};
-    bool repeated = false;  // the last record() had the same view
     bool drawn = false;
   };
   void drawGround(VkCommandBuffer commands, const gpu::DrawParams& params);

@@ -57,12 +57,13 @@ class OffscreenTarget {
   // pad its rows (the pixels would not be packed).
   static std::optional<VkDeviceSize> hostBytes(const Context& context, VkExtent2D extent,
                                                VkFormat colorFormat);
-  VkFramebuffer framebuffer() const { return framebuffer_; }
   RenderTarget target() const {
     return {framebuffer_, extent_, copyable_ ? color_.image.get() : VK_NULL_HANDLE,
             copyable_ ? depth_.image.get() : VK_NULL_HANDLE};
   }
   VkExtent2D extent() const { return extent_; }
+  // Whether the color image is the caller's host memory (the host-memory constructor).
+  bool inHostMemory() const { return host_ != nullptr; }
   // After the render pass: copy the image for the host (or, in host memory, only make the
   // pass's writes visible to it).
   void recordReadback(VkCommandBuffer commands) const;

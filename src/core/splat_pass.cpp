@@ -52,13 +52,11 @@ void SplatPass::writeSets() {
   pool_ = createPool(device, chunks + 1,
                      {{VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, chunks},
                       {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, chunks + 1}});
-  views_.clear();
   const VkDescriptorBufferInfo accumulation{accumulation_.get(), 0, VK_WHOLE_SIZE};
   splatSets_.clear();
   for (const ParticleChunk& chunk : chunks_) {
     const VkDescriptorSet set = allocateSet(device, pool_, splatSetLayout_);
-    views_.push_back(createTexelView(device, chunk.buffer, chunk.count * sizeof(Particle)));
-    writeTexels(device, set, 0, views_.back());
+    writeTexels(device, set, 0, chunk.texels);
     writeStorage(device, set, 1, accumulation);
     splatSets_.push_back(set);
   }

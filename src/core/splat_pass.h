@@ -31,11 +31,10 @@ class SplatPass {
   UniquePipelineLayout resolveLayout_;
   UniquePipeline splatPipeline_;
   UniquePipeline resolvePipeline_;
-  std::vector<ParticleChunk> chunks_;  // the simulator's (their sets are not used here)
+  std::vector<ParticleChunk> chunks_;  // the simulator's: their texel views (not their sets)
   VkExtent2D extent_{0, 0};
   Buffer accumulation_;
   UniqueDescriptorPool pool_;
-  std::vector<UniqueBufferView> views_;     // each chunk's particles as RGBA32F texels
   std::vector<VkDescriptorSet> splatSets_;  // one per particle chunk
   VkDescriptorSet resolveSet_ = VK_NULL_HANDLE;
 };

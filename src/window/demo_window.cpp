@@ -80,7 +80,7 @@ ContextOptions windowContextOptions(const DemoOptions& options) {
   ContextOptions context;
   context.instanceExtensions.assign(extensions, extensions + count);
   context.swapchain = true;
-  context.hostImport = true;  // MIT-SHM presentation reads back into the X server's memory
+  context.hostImport = true;  // MIT-SHM presentation renders into the X server's memory
   context.validation = options.validation;
   context.syncValidation = options.validation;
   context.deviceIndex = options.device;

@@ -201,10 +201,10 @@ bool ShmPresenter::resize(VkExtent2D framebufferSize) {
   for (Slot& slot : slots_) {
     slot.segment = std::make_unique<Segment>(*x11_, framebufferSize, hostBytes.value_or(0));
     const XImage* image = slot.segment->image;
-    slot.inPlace = hostBytes &&
-                   size_t(image->bytes_per_line) == size_t(framebufferSize.width) * 4 &&
-                   reinterpret_cast<uintptr_t>(image->data) % alignment == 0;
-    if (slot.inPlace)
+    const bool inPlace = hostBytes &&
+                         size_t(image->bytes_per_line) == size_t(framebufferSize.width) * 4 &&
+                         reinterpret_cast<uintptr_t>(image->data) % alignment == 0;
+    if (inPlace)
       slot.target = std::make_unique<OffscreenTarget>(context_, renderPass_, framebufferSize,
                                                       kFormat, static_cast<void*>(image->data));
     else
@@ -253,7 +253,7 @@ void ShmPresenter::put(uint32_t index) {
   const size_t row = size_t(extent_.width) * 4;
   const uint8_t* source = slot.target->mappedPixels();
   XImage* image = segment.image;
-  if (slot.inPlace) {
+  if (slot.target->inHostMemory()) {
     // The pass drew into the segment itself.
   } else if (size_t(image->bytes_per_line) == row) {
     std::memcpy(image->data, source, row * extent_.height);

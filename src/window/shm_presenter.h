@@ -57,10 +57,9 @@ class ShmPresenter final : public Presenter {
   struct Segment;  // one slot's shared-memory XImage
 
  private:
-  struct Slot {  // the segment first: the target's read-back may use its memory
+  struct Slot {  // the segment first: the target's color image may live in its memory
     std::unique_ptr<Segment> segment;
-    std::unique_ptr<OffscreenTarget> target;
-    bool inPlace = false;  // the pass renders into the segment itself
+    std::unique_ptr<OffscreenTarget> target;  // in the segment itself where the device can
   };
   void put(uint32_t slot);
 
