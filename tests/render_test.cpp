@@ -227,12 +227,14 @@ TEST_F(RenderTest, HostMemoryTargetDrawsTheSameImage) {
     general.setMode(mode);
     OffscreenTarget inHost(context(), general.renderPass(), kSize, OffscreenTarget::kColorFormat,
                            host.get());
+    EXPECT_TRUE(inHost.inHostMemory());
     EXPECT_EQ(inHost.mappedPixels(), host.get());
     const auto expected = renderOffscreen(context(), usual, image, camera_, scene);
     EXPECT_EQ(expected, renderOffscreen(context(), general, inHost, camera_, scene));
     // The presenter's fallback: read back from GENERAL.
     OffscreenTarget readBack(context(), general.renderPass(), kSize, OffscreenTarget::kColorFormat,
                              VK_IMAGE_LAYOUT_GENERAL);
+    EXPECT_FALSE(readBack.inHostMemory());
     EXPECT_EQ(expected, renderOffscreen(context(), general, readBack, camera_, scene));
   }
 }

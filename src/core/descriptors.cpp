@@ -64,13 +64,23 @@ VkDescriptorSet allocateSet(VkDevice device, VkDescriptorPool pool, VkDescriptor
   return set;
 }
 
-void writeStorage(VkDevice device, VkDescriptorSet set, uint32_t binding,
-                  const VkDescriptorBufferInfo& range) {
+namespace {
+
+// A write of the one descriptor at `binding`; the caller points it at its buffer or view.
+VkWriteDescriptorSet oneDescriptor(VkDescriptorSet set, uint32_t binding, VkDescriptorType type) {
   VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
   write.dstSet = set;
   write.dstBinding = binding;
   write.descriptorCount = 1;
-  write.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  write.descriptorType = type;
+  return write;
+}
+
+}  // namespace
+
+void writeStorage(VkDevice device, VkDescriptorSet set, uint32_t binding,
+                  const VkDescriptorBufferInfo& range) {
+  VkWriteDescriptorSet write = oneDescriptor(set, binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
   write.pBufferInfo = &range;
   vkUpdateDescriptorSets(device, 1, &write, 0, nullptr);
 }
@@ -87,11 +97,8 @@ UniqueBufferView createTexelView(VkDevice device, VkBuffer buffer, VkDeviceSize 
 }
 
 void writeTexels(VkDevice device, VkDescriptorSet set, uint32_t binding, VkBufferView view) {
-  VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-  write.dstSet = set;
-  write.dstBinding = binding;
-  write.descriptorCount = 1;
-  write.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  VkWriteDescriptorSet write =
+      oneDescriptor(set, binding, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
   write.pTexelBufferView = &view;
   vkUpdateDescriptorSets(device, 1, &write, 0, nullptr);
 }
