@@ -6,7 +6,8 @@
 # 2. without MIT-SHM on the server: the swapchain is chosen, and --present shm is refused;
 #    on a 16-bit display, which no path can present to, the demo renders headless;
 # 3. the keyboard: P (screenshot), Space (pause), N (step), R (reset), H (hide the panel)
-#    and Esc (quit), typed with xdotool into the focused window; the screenshot must appear.
+#    and Esc (quit), typed with xdotool into the focused window; the screenshot must appear;
+#    then one Esc tap while frames are slow (a tap shorter than a frame must not be lost).
 set -u
 lava=$1
 screen="-screen 0 1600x1000x24"
@@ -78,4 +79,25 @@ echo "keys: $out"
 summary "$out" '[0-9]+'
 [ -s "$work/lava-screenshot-000.png" ] || { echo "FAIL: P saved no screenshot"; exit 1; }
 echo "$out" | grep -q 'saved lava-screenshot-000.png' || { echo "FAIL: no screenshot message"; exit 1; }
+
+# One tap of Esc while frames are slow (262,144 lines through the graphics pipeline, over
+# 100 ms each on lavapipe): pressed and released within one frame, it must still quit.
+cat > "$work/slow.sh" <<SLOW
+cd "$work"
+timeout 120 "$lava" demo --size 640x360 --renderer lines --particles 262144 --rate 100000 \
+  --warmup 3 > slow.txt 2>&1 &
+pid=\$!
+window=\$(timeout 60 xdotool search --sync --name '^Lava\$' 2>/dev/null | head -1)
+if [ -z "\$window" ]; then echo "no Lava window appeared" >> slow.txt; kill \$pid; exit 1; fi
+xdotool windowfocus --sync "\$window"
+sleep 1
+xdotool key Escape
+wait \$pid
+SLOW
+xvfb-run -a -s "$screen" bash "$work/slow.sh"
+status=$?
+out=$(cat "$work/slow.txt")
+echo "Esc on slow frames: $out"
+[ $status -eq 0 ] || { echo "FAIL: one Esc tap on slow frames did not quit (exit $status)"; exit 1; }
+summary "$out" '[0-9]+'
 exit 0

@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "camera.h"
 #include "context.h"
@@ -109,8 +110,7 @@ PresentPath choosePresentPath(const DemoOptions& options, const Context& context
 // The render pass's color format for `path`. A window the driver cannot present to at all
 // (a 16-bit X display: Mesa presents to depth 24 and 32 only) is no display for the demo.
 VkSurfaceFormatKHR windowFormat(PresentPath path, const Context& context, VkSurfaceKHR surface) {
-  if (path == PresentPath::Shm)
-    return {ShmPresenter::kFormat, VK_COLOR_SPACE_SRGB_NONLINEAR_KHR};
+  if (path == PresentPath::Shm) return {ShmPresenter::kFormat, VK_COLOR_SPACE_SRGB_NONLINEAR_KHR};
   const std::optional<VkSurfaceFormatKHR> format = Swapchain::chooseFormat(context, surface);
   if (!format)
     throw NoDisplay(
@@ -142,10 +142,17 @@ class Demo {
     if (!presenter_->resize(framebufferSize())) throw NoDisplay("the window has no area");
     renderer_.setMode(options.lines);
     simulator_->advance(stepsIn(scene_, options.warmup));
+    glfwSetWindowUserPointer(window_.handle, this);
+    // Key presses are queued as they arrive (Dear ImGui, set up next, chains to this):
+    // ImGui 1.86 keeps only whether a key is down when a frame starts, so a tap pressed and
+    // released within one slow frame would be lost.
+    glfwSetKeyCallback(window_.handle, [](GLFWwindow* w, int key, int, int action, int) {
+      if (action == GLFW_PRESS)
+        static_cast<Demo*>(glfwGetWindowUserPointer(w))->pressed_.push_back(key);
+    });
     ui_ = std::make_unique<Ui>(context_, window_.handle, renderer_.renderPass(),
                                presenter_->imageCount());
     createFrameSlots();
-    glfwSetWindowUserPointer(window_.handle, this);
     glfwSetFramebufferSizeCallback(window_.handle, [](GLFWwindow* w, int, int) {
       static_cast<Demo*>(glfwGetWindowUserPointer(w))->resized_ = true;
     });
@@ -277,15 +284,32 @@ class Demo {
 
   void handleInput() {
     ImGuiIO& io = ImGui::GetIO();
-    // ImGui 1.86 with the GLFW backend indexes keys by GLFW key code.
-    if (!io.WantCaptureKeyboard) {
-      if (ImGui::IsKeyPressed(GLFW_KEY_SPACE)) paused_ = !paused_;
-      if (ImGui::IsKeyPressed(GLFW_KEY_N)) stepOnce_ = true;
-      if (ImGui::IsKeyPressed(GLFW_KEY_R)) reset_ = true;
-      if (ImGui::IsKeyPressed(GLFW_KEY_P)) screenshot_ = true;
-      if (ImGui::IsKeyPressed(GLFW_KEY_H)) showUi_ = !showUi_;
-      if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) glfwSetWindowShouldClose(window_.handle, 1);
+    for (const int key : pressed_) {
+      if (io.WantCaptureKeyboard) break;  // typed into the panel
+      switch (key) {
+        case GLFW_KEY_SPACE:
+          paused_ = !paused_;
+          break;
+        case GLFW_KEY_N:
+          stepOnce_ = true;
+          break;
+        case GLFW_KEY_R:
+          reset_ = true;
+          break;
+        case GLFW_KEY_P:
+          screenshot_ = true;
+          break;
+        case GLFW_KEY_H:
+          showUi_ = !showUi_;
+          break;
+        case GLFW_KEY_ESCAPE:
+          glfwSetWindowShouldClose(window_.handle, 1);
+          break;
+        default:
+          break;
+      }
     }
+    pressed_.clear();
     if (!io.WantCaptureMouse) {
       if (ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
         camera_.yaw -= io.MouseDelta.x * 0.006f;
@@ -461,6 +485,7 @@ class Demo {
   bool resized_ = false;
   bool minimisedByExercise_ = false;
   bool paused_ = false, stepOnce_ = false, reset_ = false, restart_ = false, screenshot_ = false;
+  std::vector<int> pressed_;  // GLFW keys pressed since the last frame, in order
   bool showUi_ = true;
   float speed_ = 1.0f;
   double owedSeconds_ = 0.0;
