@@ -55,25 +55,33 @@ echo "16-bit display: $out"
 echo "$out" | grep -q 'depth 24); rendering headless instead' ||
   { echo "FAIL: no reason given for rendering headless"; exit 1; }
 [ -s "$work/depth16/frame_00001.png" ] || { echo "FAIL: no headless frames"; exit 1; }
-cat > "$work/keys.sh" <<KEYS
+# drive NAME "DEMO ARGS" 'KEYS': under Xvfb, starts lava demo with DEMO ARGS (its output in
+# $work/NAME.txt), focuses its window, runs the xdotool commands KEYS (a shell snippet,
+# run in $work) and waits for lava to exit; returns lava's exit status.
+drive() {
+  cat > "$work/$1.sh" <<DRIVE
 cd "$work"
-timeout 120 "$lava" demo --size 640x360 > demo.txt 2>&1 &
+timeout 120 "$lava" demo $2 > $1.txt 2>&1 &
 pid=\$!
 window=\$(timeout 60 xdotool search --sync --name '^Lava\$' 2>/dev/null | head -1)
-if [ -z "\$window" ]; then echo "no Lava window appeared" >> demo.txt; kill \$pid; exit 1; fi
+if [ -z "\$window" ]; then echo "no Lava window appeared" >> $1.txt; kill \$pid; exit 1; fi
 xdotool windowfocus --sync "\$window"
+$3
+wait \$pid
+DRIVE
+  xvfb-run -a -s "$screen" bash "$work/$1.sh"
+}
+
+drive keys "--size 640x360" '
 sleep 0.5
-for i in \$(seq 1 20); do  # P until the screenshot appears (the first keys may come early)
+for i in $(seq 1 20); do  # P until the screenshot appears (the first keys may come early)
   xdotool key p
   sleep 0.25
   [ -s lava-screenshot-000.png ] && break
 done
-for key in space n r space h Escape; do xdotool key "\$key"; sleep 0.2; done
-wait \$pid
-KEYS
-xvfb-run -a -s "$screen" bash "$work/keys.sh"
+for key in space n r space h Escape; do xdotool key "$key"; sleep 0.2; done'
 status=$?
-out=$(cat "$work/demo.txt")
+out=$(cat "$work/keys.txt")
 echo "keys: $out"
 [ $status -eq 0 ] || { echo "FAIL: lava demo with keys exited $status"; exit 1; }
 summary "$out" '[0-9]+'
@@ -82,19 +90,9 @@ echo "$out" | grep -q 'saved lava-screenshot-000.png' || { echo "FAIL: no screen
 
 # One tap of Esc while frames are slow (262,144 lines through the graphics pipeline, over
 # 100 ms each on lavapipe): pressed and released within one frame, it must still quit.
-cat > "$work/slow.sh" <<SLOW
-cd "$work"
-timeout 120 "$lava" demo --size 640x360 --renderer lines --particles 262144 --rate 100000 \
-  --warmup 3 > slow.txt 2>&1 &
-pid=\$!
-window=\$(timeout 60 xdotool search --sync --name '^Lava\$' 2>/dev/null | head -1)
-if [ -z "\$window" ]; then echo "no Lava window appeared" >> slow.txt; kill \$pid; exit 1; fi
-xdotool windowfocus --sync "\$window"
+drive slow "--size 640x360 --renderer lines --particles 262144 --rate 100000 --warmup 3" '
 sleep 1
-xdotool key Escape
-wait \$pid
-SLOW
-xvfb-run -a -s "$screen" bash "$work/slow.sh"
+xdotool key Escape'
 status=$?
 out=$(cat "$work/slow.txt")
 echo "Esc on slow frames: $out"
