@@ -6,10 +6,10 @@
 
 layout(local_size_x_id = 0) in;
 
-layout(std430, binding = 0) restrict readonly buffer Source {
+layout(std430, binding = kCopySourceBinding) restrict readonly buffer Source {
   Particle source[];
 };
-layout(std430, binding = 1) restrict writeonly buffer Destination {
+layout(std430, binding = kCopyDestinationBinding) restrict writeonly buffer Destination {
   Particle destination[];
 };
 layout(push_constant) uniform Push {

@@ -11,7 +11,6 @@ layout(location = 0) out vec3 world;
 layout(location = 1) out vec3 normal;
 
 const float kGroundHalf = 12.0;
-const uint kCraterSides = 48u;
 const vec2 kQuad[6] = vec2[](vec2(0, 0), vec2(1, 0), vec2(1, 1), vec2(0, 0), vec2(1, 1), vec2(0, 1));
 
 void main() {

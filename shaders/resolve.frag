@@ -3,7 +3,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "shared.h"
 
-layout(std430, binding = 0) restrict readonly buffer Accumulation {
+layout(std430, binding = kResolveSumsBinding) restrict readonly buffer Accumulation {
   uint accumulation[];
 };
 layout(push_constant) uniform Push {

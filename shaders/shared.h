@@ -7,6 +7,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <glm/glm.hpp>
+
+#include "lava/state.h"
 namespace lava::gpu {
 using uint = std::uint32_t;
 using vec4 = glm::vec4;
@@ -27,6 +29,15 @@ const uint kScheduleBinding = 1u;
 // The same particles read as RGBA32F texels (posAge, velMass): on llvmpipe a texel fetch
 // is a branch-free gather, a storage-buffer load a bounds-checked loop over the lanes.
 const uint kParticleTexelBinding = 2u;
+// Bindings of splat.comp (particles as texels, the sums), resolve.frag and copy.comp.
+const uint kSplatParticleBinding = 0u;
+const uint kSplatSumsBinding = 1u;
+const uint kResolveSumsBinding = 0u;
+const uint kCopySourceBinding = 0u;
+const uint kCopyDestinationBinding = 1u;
+// ground.vert: the plane's two triangles, then the crater cone's side quads.
+const uint kCraterSides = 48u;
+const uint kGroundVertices = 6u + 6u * kCraterSides;
 // Random-stream components drawn per emitted particle: 3 for velocity, then disc tries.
 const uint kVelocityComponents = 3u;
 // Rejection-sampling tries for the emitter disc; all failing has odds (1-pi/4)^16 < 2e-11
@@ -36,11 +47,16 @@ const uint kDiscTries = 16u;
 // Tangential speed (m/s) below which a bouncing particle's x or z velocity becomes 0.
 const float kRestSpeed = 1e-4f;
 
-// One particle, 32 bytes in std430. Unborn slots have posAge.w < 0.
+// One particle, 32 bytes in std430. Unborn slots have posAge.w < 0. C++ names the same
+// floats px py pz age vx vy vz mass (lava::Particle).
+#ifdef __cplusplus
+using Particle = ::lava::Particle;
+#else
 struct Particle {
   vec4 posAge;   // xyz position (m), w age since emission (s); < 0: never emitted
   vec4 velMass;  // xyz velocity (m/s), w mass (kg)
 };
+#endif
 
 // One step's emission, written by the host (ring-buffer bookkeeping stays on the host).
 struct EmitEntry {
@@ -65,7 +81,6 @@ struct DrawParams {
   vec4 style;     // x line scale s (s), y speed (m/s) at which a line is fully red,
                   // z age (s) at which it has cooled to its darkest, w unused
   vec4 crater;    // xyz emitter centre (m), w emitter radius (m)
-  uvec4 chunk;    // x first particle of the bound range
 };
 
 // Push constants of splat.comp and resolve.frag, the fast line renderer.
@@ -99,11 +114,13 @@ LAVA_FN float signedUnit(uint bits) {
 }
 
 #ifdef __cplusplus
-static_assert(sizeof(Particle) == 32, "Particle must match std430 (two vec4)");
+static_assert(sizeof(Particle) == 32 && offsetof(Particle, age) == 12 &&
+                  offsetof(Particle, vx) == 16 && offsetof(Particle, mass) == 28,
+              "Particle must match std430 (posAge, velMass)");
 static_assert(sizeof(EmitEntry) == 32, "EmitEntry must match std430 (two uvec4)");
 static_assert(sizeof(StepParams) == 112, "StepParams must fit 128 bytes of push constants");
 static_assert(offsetof(StepParams, run) == 80, "StepParams members must stay vec4-aligned");
-static_assert(sizeof(DrawParams) == 112, "DrawParams must fit 128 bytes of push constants");
+static_assert(sizeof(DrawParams) == 96, "DrawParams must fit 128 bytes of push constants");
 static_assert(sizeof(SplatParams) == 96, "SplatParams must fit 128 bytes of push constants");
 }  // namespace lava::gpu
 #endif

@@ -10,8 +10,8 @@ layout(local_size_x_id = 0) in;
 
 // The particles as RGBA32F texels (posAge, velMass): llvmpipe gathers texel fetches
 // without the per-lane bounds-checked loop it runs for a storage-buffer load.
-layout(binding = 0) uniform samplerBuffer particles;
-layout(std430, binding = 1) restrict buffer Accumulation {
+layout(binding = kSplatParticleBinding) uniform samplerBuffer particles;
+layout(std430, binding = kSplatSumsBinding) restrict buffer Accumulation {
   uint accumulation[];
 };
 layout(push_constant) uniform Push {

@@ -2,9 +2,10 @@
 // "validation-clean" claims of every other test would mean nothing.
 #include <gtest/gtest.h>
 
-#include "descriptors.h"
-#include "roofline.h"
-#include "shared.h"
+#include "lava/device.h"
+#include "lava/state.h"
+#include "vulkan/buffer.h"
+#include "vulkan/commands.h"
 #include "vulkan_test.h"
 
 namespace lava {
@@ -12,31 +13,34 @@ namespace {
 
 class Harness : public ::testing::Test {
  protected:
-  Context context_{test::validatedOptions()};
+  Device device_{test::validatedOptions()};
 };
 
-// Copies a -> b, then b -> c: the second pass reads what the first wrote (RAW on b).
-std::vector<std::string> copyTwice(Context& context, bool withBarrier) {
-  const uint32_t particles = 4096;
-  const VkDeviceSize bytes = particles * sizeof(gpu::Particle);
-  Buffer a(context, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  Buffer b(context, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  Buffer c(context, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  const CopyKernel first(context, a, b, particles), second(context, b, c, particles);
-  context.submitNow([&](VkCommandBuffer commands) {
-    first.record(commands);
+// Copies a -> b, then b -> c: the second copy reads what the first wrote (RAW on b).
+std::vector<std::string> copyTwice(Device& device, bool withBarrier) {
+  const detail::DeviceContext& c = device.context();
+  const VkDeviceSize bytes = 4096 * sizeof(Particle);
+  const VkBufferUsageFlags usage =
+      VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  const detail::Buffer a(c, bytes, usage, detail::MemoryUse::Device);
+  const detail::Buffer b(c, bytes, usage, detail::MemoryUse::Device);
+  const detail::Buffer d(c, bytes, usage, detail::MemoryUse::Device);
+  c.submitNow([&](VkCommandBuffer commands) {
+    const VkBufferCopy region{0, 0, bytes};
+    c.vk.CmdCopyBuffer(commands, a.get(), b.get(), 1, &region);
     if (withBarrier) {
       // RAW: the first copy writes b, the second reads it.
-      memoryBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+      detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                            VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                            VK_ACCESS_TRANSFER_READ_BIT);
     }
-    second.record(commands);
+    c.vk.CmdCopyBuffer(commands, b.get(), d.get(), 1, &region);
   });
-  return context.takeValidationMessages();
+  return device.takeValidationMessages();
 }
 
 TEST_F(Harness, MissingBarrierIsReportedBySynchronizationValidation) {
-  const std::vector<std::string> messages = copyTwice(context_, false);
+  const std::vector<std::string> messages = copyTwice(device_, false);
   ASSERT_FALSE(messages.empty()) << "synchronization validation missed a RAW hazard";
   bool raw = false;
   for (const std::string& m : messages)
@@ -45,7 +49,7 @@ TEST_F(Harness, MissingBarrierIsReportedBySynchronizationValidation) {
 }
 
 TEST_F(Harness, TheSameWorkWithItsBarrierIsClean) {
-  const std::vector<std::string> messages = copyTwice(context_, true);
+  const std::vector<std::string> messages = copyTwice(device_, true);
   EXPECT_TRUE(messages.empty()) << messages.front();
 }
 
@@ -55,9 +59,10 @@ TEST_F(Harness, AnInvalidCallIsReportedByCoreValidation) {
   info.size = 0;
   info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   VkBuffer buffer = VK_NULL_HANDLE;
-  if (vkCreateBuffer(context_.device(), &info, nullptr, &buffer) == VK_SUCCESS && buffer)
-    vkDestroyBuffer(context_.device(), buffer, nullptr);
-  const std::vector<std::string> messages = context_.takeValidationMessages();
+  VkDevice device = device_.handles().device;
+  if (vkCreateBuffer(device, &info, nullptr, &buffer) == VK_SUCCESS && buffer)
+    vkDestroyBuffer(device, buffer, nullptr);
+  const std::vector<std::string> messages = device_.takeValidationMessages();
   ASSERT_FALSE(messages.empty());
   EXPECT_NE(messages.front().find("VUID-VkBufferCreateInfo-size"), std::string::npos)
       << messages.front();

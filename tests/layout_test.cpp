@@ -9,7 +9,7 @@
 namespace lava::gpu {
 namespace {
 
-static_assert(offsetof(Particle, posAge) == 0 && offsetof(Particle, velMass) == 16);
+static_assert(offsetof(Particle, px) == 0 && offsetof(Particle, vx) == 16);
 static_assert(offsetof(StepParams, material) == 64 && offsetof(StepParams, chunk) == 96);
 static_assert(sizeof(StepParams) <= 128, "the minimum guaranteed push-constant size");
 

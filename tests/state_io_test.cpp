@@ -2,14 +2,15 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
+
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
 
-#include "compare.h"
-#include "state_io.h"
-#include "vk_check.h"
+#include "host/output.h"
+#include "lava/validation.h"
 
 namespace lava {
 namespace {
@@ -21,9 +22,13 @@ std::string readFile(const std::string& path) {
   return s.str();
 }
 
-std::vector<gpu::Particle> sample() {
-  return {gpu::Particle{{1.0f, 2.0f, 3.0f, 0.5f}, {4.0f, 5.0f, 6.0f, 1.0f}},
-          gpu::Particle{{0.0f, 0.0f, 0.0f, -1.0f}, {0.0f, 0.0f, 0.0f, 0.0f}}};
+using host::checkStatePath;
+using host::UsageError;
+using host::writeState;
+
+std::vector<Particle> sample() {
+  return {Particle{1.0f, 2.0f, 3.0f, 0.5f, 4.0f, 5.0f, 6.0f, 1.0f},
+          Particle{0.0f, 0.0f, 0.0f, -1.0f, 0.0f, 0.0f, 0.0f, 0.0f}};
 }
 
 std::string tempPath(const std::string& name) {
@@ -65,29 +70,40 @@ TEST(StateIo, BadPathsAreUsageErrors) {
   EXPECT_NO_THROW(checkStatePath("--out", tempPath("ok.npy")));
   try {
     checkStatePath("--out", "/no/such/folder/state.npy");
+    ADD_FAILURE() << "a path in a missing folder was accepted";
   } catch (const UsageError& e) {
-    EXPECT_NE(std::string(e.what()).find("--out"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("--out"), std::string::npos) << e.what();
   }
 }
 
 TEST(Compare, UlpDistance) {
   EXPECT_EQ(ulpDistance(1.0f, 1.0f), 0u);
   EXPECT_EQ(ulpDistance(1.0f, std::nextafter(1.0f, 2.0f)), 1u);
-  EXPECT_EQ(ulpDistance(-0.0f, 0.0f), 0u);
-  EXPECT_EQ(ulpDistance(std::nextafter(0.0f, -1.0f), std::nextafter(0.0f, 1.0f)), 2u);
+  // -0 and +0 differ in their bits: one step apart, so tolerance 0 tells them apart.
+  EXPECT_EQ(ulpDistance(-0.0f, 0.0f), 1u);
+  EXPECT_EQ(ulpDistance(std::nextafter(0.0f, -1.0f), std::nextafter(0.0f, 1.0f)), 3u);
   EXPECT_EQ(ulpDistance(1.0f, NAN), 0xffffffffu);
+  EXPECT_EQ(ulpDistance(NAN, NAN), 0u);  // the same bits
+  EXPECT_EQ(ulpDistance(NAN, -NAN), 0xffffffffu);
 }
 
 TEST(Compare, CountsEqualSlotsAndLargestDifferences) {
-  std::vector<gpu::Particle> a = sample(), b = sample();
-  b[0].posAge.y += 0.25f;
-  b[0].velMass.z = std::nextafter(b[0].velMass.z, 10.0f);
+  std::vector<Particle> a = sample(), b = sample();
+  b[0].py += 0.25f;
+  b[0].vz = std::nextafter(b[0].vz, 10.0f);
   const Comparison c = compare(a, b);
   EXPECT_EQ(c.particles, 2u);
   EXPECT_EQ(c.equal, 1u);
-  EXPECT_FLOAT_EQ(c.maxDx, 0.25f);
-  EXPECT_GT(c.maxDv, 0.0f);
+  EXPECT_EQ(c.alive, 1u);
+  EXPECT_EQ(c.maxDx, 0.25f);
+  EXPECT_EQ(c.maxDv, std::nextafter(6.0f, 10.0f) - 6.0f);  // one ULP of 6: 2^-21
   EXPECT_EQ(c.maxUlp, ulpDistance(2.0f, 2.25f));
+  ASSERT_TRUE(c.first);
+  EXPECT_EQ(c.first->particle, 0u);
+  EXPECT_EQ(c.first->field, 1u);  // py
+  EXPECT_STREQ(fieldName(c.first->field), "py");
+  EXPECT_EQ(c.first->subjectBits, 0x40000000u);    // 2.0f
+  EXPECT_EQ(c.first->referenceBits, 0x40100000u);  // 2.25f
 }
 
 }  // namespace

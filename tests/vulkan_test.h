@@ -1,33 +1,32 @@
-// A fixture for tests that touch Vulkan: a context with the validation layer and its
+// A fixture for tests that touch Vulkan: a device with the validation layer and its
 // synchronization validation on; any message the layer reports fails the test.
 #pragma once
 #include <gtest/gtest.h>
 
 #include <memory>
 
-#include "context.h"
+#include "lava/device.h"
 
 namespace lava::test {
 
-inline ContextOptions validatedOptions() {
-  ContextOptions options;
+inline DeviceOptions validatedOptions() {
+  DeviceOptions options;
   options.validation = true;
-  options.syncValidation = true;
-  options.hostImport = true;
+  options.deviceExtensions = {VK_EXT_EXTERNAL_MEMORY_HOST_EXTENSION_NAME};
   return options;
 }
 
 class VulkanTest : public ::testing::Test {
  protected:
-  void SetUp() override { context_ = std::make_unique<Context>(validatedOptions()); }
+  void SetUp() override { device_ = std::make_unique<Device>(validatedOptions()); }
   void TearDown() override {
-    for (const std::string& message : context_->takeValidationMessages())
+    for (const std::string& message : device_->takeValidationMessages())
       ADD_FAILURE() << "validation: " << message;
   }
-  Context& context() { return *context_; }
+  Device& device() { return *device_; }
 
  private:
-  std::unique_ptr<Context> context_;
+  std::unique_ptr<Device> device_;
 };
 
 }  // namespace lava::test

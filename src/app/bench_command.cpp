@@ -9,23 +9,17 @@
 #include <thread>
 
 #include "commands.h"
-#include "cpu_simulator.h"
-#include "gpu_simulator.h"
+#include "host/output.h"
+#include "lava/lava.h"
 #include "options.h"
-#include "roofline.h"
 #include "runtime.h"
-#include "state_io.h"
-#include "vk_check.h"
 
 namespace lava::app {
 namespace {
 
-// Bytes one unfused step moves per particle: two vec4 read, two written.
-constexpr double kBytesPerUpdate = 2.0 * sizeof(Particle);
-
 struct Row {
   std::string backend;
-  uint32_t particles;
+  uint64_t particles;
   uint64_t steps;
   double updatesPerSecond;        // end to end, wall clock
   double deviceUpdatesPerSecond;  // GPU: timestamp queries; CPU: same as end to end
@@ -47,32 +41,31 @@ class BenchCommand final : public Command {
         options_(*command_) {
     options_.addSceneFlags(scene_, device_);
     options_.add(
-        "sizes", Kind::Text, "comma-separated particle counts [65536,262144,1048576,4194304]",
+        "sizes", "comma-separated particle counts [65536,262144,1048576,4194304]",
         [this](const std::string& src, const std::string& t) { sizes_ = parseSizes(src, t); });
-    options_.add("steps", Kind::Number, "steps timed per size and backend, 1..100000 [200]",
+    options_.add("steps", "steps timed per size and backend, 1..100000 [200]",
                  [this](const std::string& src, const std::string& t) {
                    steps_ = parseInteger(src, t, 1, 100000);
                  });
-    options_.add(
-        "steps-per-dispatch", Kind::Number,
-        "GPU steps fused per dispatch, 1..256 [256]; 1 is the unfused, memory-bound step",
-        [this](const std::string& src, const std::string& t) {
-          fused_ = static_cast<uint32_t>(parseInteger(src, t, 1, GpuSimulator::kStepsPerDispatch));
-        });
-    options_.add("backends", Kind::Text, "comma-separated subset of gpu,cpu,cpu-mt [all]",
+    options_.add("steps-per-dispatch",
+                 "GPU steps fused per dispatch, 1..256 [256]; 1 is the unfused, memory-bound step",
+                 [this](const std::string& src, const std::string& t) {
+                   fused_ = static_cast<uint32_t>(parseInteger(src, t, 1, 256));
+                 });
+    options_.add("backends", "comma-separated subset of gpu,cpu,cpu-mt [all]",
                  [this](const std::string& src, const std::string& t) {
                    backends_ = parseBackends(src, t);
                  });
-    options_.add("json", Kind::Text, "also write the results to FILE.json",
+    options_.add("json", "also write the results to FILE.json",
                  [this](const std::string& src, const std::string& t) {
-                   checkOutputPath(src, t, ".json");
+                   host::checkOutputPath(src, t, ".json");
                    json_ = t;
                  });
   }
 
   int run() override {
     options_.resolve();
-    Context context(contextOptions(device_));
+    Device context(deviceOptions(device_));
     const std::string device = context.properties().deviceName;
     const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
     std::printf("bench: %s, %llu steps, %u steps per dispatch, %u CPU threads for cpu-mt\n",
@@ -81,17 +74,18 @@ class BenchCommand final : public Command {
                 "device upd/s", "GB/s", "copy GB/s", "roofline");
     std::vector<Row> rows;
     for (uint32_t n : sizes_) {
-      if (n > maxParticles(context))
-        throw UsageError("--sizes: " + std::to_string(n) + " particles exceed this device's " +
-                         std::to_string(maxParticles(context)) + " (see 'lava info')");
+      if (n > context.maxParticles())
+        throw host::UsageError("--sizes: " + std::to_string(n) +
+                               " particles exceed this device's " +
+                               std::to_string(context.maxParticles()) + " (see 'lava info')");
       Scene scene = scene_;
-      scene.particles = n;
-      const SimState start = allAlive(scene);
+      scene.emitters.at(0).particles = n;
+      const State start = allAlive(scene);
       if (wants("gpu")) rows.push_back(benchGpu(context, scene, start));
       if (wants("cpu")) rows.push_back(benchCpu(scene, start, 1, "cpu"));
       if (wants("cpu-mt")) rows.push_back(benchCpu(scene, start, cores, "cpu-mt"));
     }
-    if (!json_.empty()) writeFileAtomically(json_, toJson(device, rows));
+    if (!json_.empty()) host::writeFileAtomically(json_, toJson(device, rows));
     return finish(context, 0);
   }
 
@@ -102,49 +96,50 @@ class BenchCommand final : public Command {
   }
 
   // Every slot alive: one step of an emission rate that fills the whole ring.
-  static SimState allAlive(const Scene& scene) {
+  static State allAlive(const Scene& scene) {
     Scene fill = scene;
-    fill.rate = 1e30;
-    CpuSimulator sim(fill, 0);
+    fill.emitters.at(0).burst = fill.emitters.at(0).particles;
+    CpuSimulation sim(fill, std::max(1u, std::thread::hardware_concurrency()));
     sim.advance(1);
     return sim.state();
   }
 
-  Row benchGpu(Context& context, const Scene& scene, const SimState& start) {
-    GpuSimulator sim(context, scene);
-    sim.setStepsPerDispatch(fused_);
-    sim.load(start);
+  Row benchGpu(Device& context, const Scene& scene, const State& start) {
+    GpuSimulationOptions options;
+    options.stepsPerDispatch = fused_;
+    GpuSimulation sim(context, scene, options);
+    sim.setState(start);
     sim.advance(std::min<uint64_t>(steps_, 64));  // warm-up
     double device = 0.0;
     const double wall = secondsOf([&] { device = sim.advanceTimed(steps_); });
-    const double copy = gpuCopySeconds(context, scene.particles);
-    return report({"gpu", scene.particles, steps_, updates(scene, wall), updates(scene, device),
+    const double copy = gpuCopySeconds(context, scene.particles());
+    return report({"gpu", scene.particles(), steps_, updates(scene, wall), updates(scene, device),
                    bandwidth(scene, copy), 0.0});
   }
 
-  Row benchCpu(const Scene& scene, const SimState& start, unsigned threads, const char* name) {
-    CpuSimulator sim(scene, threads);
-    sim.load(start);
+  Row benchCpu(const Scene& scene, const State& start, unsigned threads, const char* name) {
+    CpuSimulation sim(scene, threads);
+    sim.setState(start);
     sim.advance(std::min<uint64_t>(steps_, 16));  // warm-up
     const double wall = secondsOf([&] { sim.advance(steps_); });
-    const double copy = cpuCopySeconds(scene.particles, threads);
-    return report({name, scene.particles, steps_, updates(scene, wall), updates(scene, wall),
+    const double copy = cpuCopySeconds(scene.particles(), threads);
+    return report({name, scene.particles(), steps_, updates(scene, wall), updates(scene, wall),
                    bandwidth(scene, copy), 0.0});
   }
 
   double updates(const Scene& scene, double seconds) const {
-    return double(scene.particles) * double(steps_) / seconds;
+    return double(scene.particles()) * double(steps_) / seconds;
   }
   static double bandwidth(const Scene& scene, double copySeconds) {
-    return double(scene.particles) * kBytesPerUpdate / copySeconds * 1e-9;
+    return double(scene.particles()) * kBytesPerUpdate / copySeconds * 1e-9;
   }
 
   static Row report(Row row) {
     row.rooflineFraction = row.deviceUpdatesPerSecond * kBytesPerUpdate * 1e-9 / row.copyGbps;
-    std::printf("%-7s %10u %16.4g %16.4g %9.2f %10.2f %9.3f\n", row.backend.c_str(), row.particles,
-                row.updatesPerSecond, row.deviceUpdatesPerSecond,
-                row.deviceUpdatesPerSecond * kBytesPerUpdate * 1e-9, row.copyGbps,
-                row.rooflineFraction);
+    std::printf("%-7s %10llu %16.4g %16.4g %9.2f %10.2f %9.3f\n", row.backend.c_str(),
+                static_cast<unsigned long long>(row.particles), row.updatesPerSecond,
+                row.deviceUpdatesPerSecond, row.deviceUpdatesPerSecond * kBytesPerUpdate * 1e-9,
+                row.copyGbps, row.rooflineFraction);
     std::fflush(stdout);
     return row;
   }
@@ -175,7 +170,8 @@ class BenchCommand final : public Command {
     for (std::string item; std::getline(stream, item, ',');)
       sizes.push_back(static_cast<uint32_t>(parseInteger(source, item, 1, 0x80000000u)));
     if (sizes.empty() || text.back() == ',')
-      throw UsageError(source + ": expected comma-separated particle counts, got '" + text + "'");
+      throw host::UsageError(source + ": expected comma-separated particle counts, got '" + text +
+                             "'");
     return sizes;
   }
 
@@ -185,11 +181,12 @@ class BenchCommand final : public Command {
     std::stringstream stream(text);
     for (std::string item; std::getline(stream, item, ',');) {
       if (item != "gpu" && item != "cpu" && item != "cpu-mt")
-        throw UsageError(source + ": expected a comma-separated subset of gpu,cpu,cpu-mt, got '" +
-                         text + "'");
+        throw host::UsageError(
+            source + ": expected a comma-separated subset of gpu,cpu,cpu-mt, got '" + text + "'");
       backends.push_back(item);
     }
-    if (backends.empty()) throw UsageError(source + ": expected at least one of gpu,cpu,cpu-mt");
+    if (backends.empty())
+      throw host::UsageError(source + ": expected at least one of gpu,cpu,cpu-mt");
     return backends;
   }
 
@@ -198,7 +195,7 @@ class BenchCommand final : public Command {
   std::optional<unsigned> device_;
   std::vector<uint32_t> sizes_{65536, 262144, 1048576, 4194304};
   uint64_t steps_ = 200;
-  uint32_t fused_ = GpuSimulator::kStepsPerDispatch;
+  uint32_t fused_ = 256;
   std::vector<std::string> backends_;
   std::string json_;
 };

@@ -9,11 +9,12 @@
 #include <cstdio>
 #include <cstring>
 
-#include "image_io.h"
-#include "line_renderer.h"
-#include "offscreen_target.h"
+#include "host/frame_renderer.h"
+#include "host/offscreen.h"
+#include "host/output.h"
+#include "lava/camera.h"
+#include "lava/simulation.h"
 #include "runtime.h"
-#include "vk_check.h"
 
 namespace lava::app {
 
@@ -22,39 +23,50 @@ VkExtent2D parseSize(const std::string& source, const std::string& text) {
   if (std::sscanf(text.c_str(), "%ux%u", &w, &h) != 2 || w == 0 || h == 0 || w > 65536 ||
       h > 65536 || text.find_first_not_of("0123456789x") != std::string::npos ||
       text != std::to_string(w) + "x" + std::to_string(h))
-    throw UsageError(source + ": expected WIDTHxHEIGHT with each in [1, 16384], got '" + text +
-                     "'");
+    throw host::UsageError(source + ": expected WIDTHxHEIGHT with each in [1, 16384], got '" +
+                           text + "'");
   return {w, h};
 }
 
-void checkSize(const Context& context, VkExtent2D size) {
-  const uint32_t limit = context.limits().maxImageDimension2D;
+void checkSize(const Device& device, VkExtent2D size) {
+  const uint32_t limit = device.limits().maxImageDimension2D;
   if (size.width > limit || size.height > limit)
-    throw UsageError("--size: expected each side in [1, " + std::to_string(limit) +
-                     "] on this device, got " + std::to_string(size.width) + "x" +
-                     std::to_string(size.height));
+    throw host::UsageError("--size: expected each side in [1, " + std::to_string(limit) +
+                           "] on this device, got " + std::to_string(size.width) + "x" +
+                           std::to_string(size.height));
 }
 
 std::string outputFolder(const std::string& source, const std::string& path) {
-  if (path.empty()) throw UsageError(source + ": expected a folder, got ''");
+  if (path.empty()) throw host::UsageError(source + ": expected a folder, got ''");
   if (mkdir(path.c_str(), 0755) != 0 && errno != EEXIST)
-    throw UsageError(source + ": cannot create folder '" + path + "': " + std::strerror(errno));
+    throw host::UsageError(source + ": cannot create folder '" + path +
+                           "': " + std::strerror(errno));
   struct stat info {};
   if (stat(path.c_str(), &info) != 0 || !S_ISDIR(info.st_mode) || access(path.c_str(), W_OK) != 0)
-    throw UsageError(source + ": '" + path + "' is not a writable folder");
+    throw host::UsageError(source + ": '" + path + "' is not a writable folder");
   return path;
 }
 
-double renderFrames(Context& context, const Scene& scene, const FramePlan& plan) {
-  checkSize(context, plan.size);
-  GpuSimulator simulator(context, scene);
-  LineRenderer renderer(context, simulator, OffscreenTarget::kColorFormat,
-                        VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
-  renderer.setMode(plan.lines);
-  OffscreenTarget target(context, renderer.renderPass(), plan.size);
+LineMode parseLineMode(const std::string& source, const std::string& text) {
+  if (text == "lines") return LineMode::Lines;
+  if (text == "splat") return LineMode::Splat;
+  throw host::UsageError(source + ": expected lines or splat, got '" + text + "'");
+}
+
+LineMode defaultLineMode(uint64_t particles) {
+  return particles >= kSplatFrom ? LineMode::Splat : LineMode::Lines;
+}
+
+double renderFrames(Device& device, const Scene& scene, const FramePlan& plan) {
+  checkSize(device, plan.size);
+  GpuSimulation simulation(device, scene);
+  host::FrameRenderer renderer(device, host::OffscreenTarget::kColorFormat, 1);
+  renderer.lines().setMode(plan.lines);
+  const host::OffscreenTarget target(device, plan.size);
+  const host::Submitter submitter(device);
   OrbitCamera camera;
-  simulator.advance(stepsIn(scene, plan.warmup));
-  const double stepsPerFrame = 1.0 / (plan.fps * double(scene.dt));
+  simulation.advance(scene.stepsIn(plan.warmup));
+  const double stepsPerFrame = 1.0 / (plan.fps * double(scene.h()));
   double owed = 0.0;
   Progress progress("render", plan.frames);
   const auto start = std::chrono::steady_clock::now();
@@ -63,13 +75,14 @@ double renderFrames(Context& context, const Scene& scene, const FramePlan& plan)
       owed += stepsPerFrame;
       const double whole = std::floor(owed);
       owed -= whole;
-      simulator.advance(static_cast<uint64_t>(whole));
+      simulation.advance(static_cast<uint64_t>(whole));
     }
     camera.yaw = 0.6f + 0.15f * float(frame / plan.fps);  // a slow orbit
-    const std::vector<uint8_t> pixels = renderOffscreen(context, renderer, target, camera, scene);
+    const std::vector<uint8_t> pixels =
+        host::renderOffscreen(submitter, renderer, simulation, target, camera);
     char name[32];
     std::snprintf(name, sizeof(name), "/frame_%05u.png", frame);
-    writePng(plan.folder + name, plan.size.width, plan.size.height, pixels);
+    host::writePng(plan.folder + name, plan.size.width, plan.size.height, pixels);
     progress.update(frame + 1);
   }
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

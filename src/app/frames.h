@@ -5,9 +5,9 @@
 
 #include <string>
 
-#include "context.h"
-#include "line_renderer.h"
-#include "scene.h"
+#include "lava/device.h"
+#include "lava/renderer.h"
+#include "lava/scene.h"
 
 namespace lava::app {
 
@@ -17,16 +17,20 @@ struct FramePlan {
   VkExtent2D size{1280, 720};
   double warmup = 3.0;  // seconds simulated before the first frame
   std::string folder;   // frame_00000.png ... go here
-  LineMode lines = LineMode::Pipeline;
+  LineMode lines = LineMode::Lines;
 };
 
 VkExtent2D parseSize(const std::string& source, const std::string& text);
 // Throws UsageError naming --size unless both sides fit the device's image limit.
-void checkSize(const Context& context, VkExtent2D size);
+void checkSize(const Device& device, VkExtent2D size);
 // Creates `path` if missing; throws UsageError naming `source` unless it is a writable folder.
 std::string outputFolder(const std::string& source, const std::string& path);
+// "lines" or "splat" for the flag named by `source`.
+LineMode parseLineMode(const std::string& source, const std::string& text);
+// Lines below kSplatFrom particles, the splat from there.
+LineMode defaultLineMode(uint64_t particles);
 
 // Returns the wall-clock seconds the frames took (simulation, drawing and PNG writing).
-double renderFrames(Context& context, const Scene& scene, const FramePlan& plan);
+double renderFrames(Device& device, const Scene& scene, const FramePlan& plan);
 
 }  // namespace lava::app

@@ -1,5 +1,5 @@
 // `lava`: the command line. Exit status 0 success, 1 a check failed or a resource ran out,
-// 2 bad usage or bad input (one line naming the flag and the accepted range).
+// 2 bad usage or bad input (one line naming the flag and what it accepts).
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -8,7 +8,10 @@
 #include <vector>
 
 #include "commands.h"
-#include "vk_check.h"
+#include "host/output.h"
+#include "lava/error.h"
+#include "lava/scene.h"
+#include "runtime.h"
 
 namespace {
 
@@ -30,6 +33,18 @@ std::string usageMessage(const CLI::App& app, const char* command, const CLI::Pa
     return m[1].str() + ": needs a value" + accepted;
   }
   return what + " (see 'lava --help')";
+}
+
+// A library error about a parameter, named as the program's user knows it: a scene key
+// given as a flag, --device or LAVA_DEVICE, or the key of a scene file as it stands.
+std::string parameterMessage(const lava::InvalidArgument& e) {
+  const std::string& p = e.parameter();
+  if (p == "device")
+    return std::string(lava::app::deviceSource()) + ": " + e.detail() + " (see 'lava info')";
+  if (p == "particles") return "--particles: " + e.detail() + " (see 'lava info')";
+  for (const lava::SceneKey& key : lava::sceneKeys(lava::KeyTable::Top))
+    if (p == key.name) return "--" + p + ": " + e.detail();
+  return e.what();
 }
 
 }  // namespace
@@ -72,8 +87,11 @@ int main(int argc, char** argv) {
   try {
     for (auto& command : commands)
       if (command->chosen()) return command->run();
-  } catch (const lava::UsageError& e) {
+  } catch (const lava::host::UsageError& e) {
     std::fprintf(stderr, "lava: %s\n", e.what());
+    return 2;
+  } catch (const lava::InvalidArgument& e) {
+    std::fprintf(stderr, "lava: %s\n", parameterMessage(e).c_str());
     return 2;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "lava: out of host memory\n");

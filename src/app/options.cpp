@@ -1,16 +1,12 @@
 #include "options.h"
 
-#include <toml++/toml.h>
-
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
-#include <limits>
-#include <sstream>
 
-#include "vk_check.h"
+#include "host/output.h"
+#include "lava/error.h"
 
 namespace lava::app {
 namespace {
@@ -23,7 +19,7 @@ std::string formatNumber(double value) {
 
 [[noreturn]] void reject(const std::string& source, const std::string& expected,
                          const std::string& text) {
-  throw UsageError(source + ": expected " + expected + ", got '" + text + "'");
+  throw host::UsageError(source + ": expected " + expected + ", got '" + text + "'");
 }
 
 bool readDouble(const std::string& text, double& value) {
@@ -32,36 +28,6 @@ bool readDouble(const std::string& text, double& value) {
   errno = 0;
   value = std::strtod(text.c_str(), &end);
   return *end == '\0' && errno != ERANGE;
-}
-
-std::string tomlText(const std::string& source, const toml::node& node, Kind kind) {
-  auto number = [&](const toml::node& n) -> std::string {
-    if (auto i = n.as_integer()) return std::to_string(i->get());
-    if (auto f = n.as_floating_point()) {
-      char text[40];
-      std::snprintf(text, sizeof(text), "%.17g", f->get());
-      return text;
-    }
-    std::ostringstream type;
-    type << n.type();
-    throw UsageError(source + ": expected a number, got a TOML " + type.str());
-  };
-  switch (kind) {
-    case Kind::Number:
-      return number(node);
-    case Kind::Vector: {
-      const toml::array* array = node.as_array();
-      if (!array) throw UsageError(source + ": expected an array of 3 numbers like [0, 1.5, 0]");
-      std::string joined;
-      for (const toml::node& element : *array)
-        joined += (joined.empty() ? "" : ",") + number(element);
-      return joined;
-    }
-    case Kind::Text:
-      if (auto text = node.as_string()) return text->get();
-      throw UsageError(source + ": expected a string");
-  }
-  return {};
 }
 
 }  // namespace
@@ -90,25 +56,10 @@ double parseNumber(const std::string& source, const std::string& text, double lo
   return value;
 }
 
-glm::vec3 parseVec3(const std::string& source, const std::string& text, double lo, double hi) {
-  std::vector<std::string> parts;
-  std::stringstream stream(text);
-  for (std::string part; std::getline(stream, part, ',');) parts.push_back(part);
-  if (parts.size() != 3 || text.back() == ',')
-    reject(source,
-           "3 comma-separated numbers X,Y,Z each in [" + formatNumber(lo) + ", " +
-               formatNumber(hi) + "]",
-           text);
-  glm::vec3 v;
-  for (int i = 0; i < 3; ++i)
-    v[i] =
-        static_cast<float>(parseNumber(source + " (component " + "xyz"[i] + ")", parts[i], lo, hi));
-  return v;
-}
-
 Options::Options(CLI::App& command) : command_(command) {
   command_.add_option("--scene", scenePath_,
-                      "TOML scene file; keys are flag names without '--' (flags win)");
+                      "TOML scene file: scene keys, [[emitter]]/[[force]]/[[collider]] tables, "
+                      "and this command's options (flags win)");
 }
 
 std::set<std::string>& Options::everyKey() {
@@ -116,134 +67,90 @@ std::set<std::string>& Options::everyKey() {
   return keys;
 }
 
-void Options::add(const std::string& name, Kind kind, const std::string& help, Apply apply,
-                  bool required) {
+void Options::add(const std::string& name, const std::string& help, Apply apply, bool required) {
   everyKey().insert(name);
-  auto* flag = command_.add_option("--" + name, given_[name], help);
-  if (kind == Kind::Vector)
-    flag->type_name("X,Y,Z");
-  else if (kind == Kind::Number)
-    flag->type_name("NUM");
-  else
-    flag->type_name("TEXT");
-  specs_.push_back({name, kind, std::move(apply), required, flag});
+  CLI::Option* flag = command_.add_option("--" + name, values_[name], help);
+  flag->type_name("VALUE");
+  specs_.push_back({name, std::move(apply), required, flag});
 }
 
-std::map<std::string, std::string> Options::readScene() const {
-  std::map<std::string, std::string> values;
-  if (scenePath_.empty()) return values;
-  std::ifstream file(scenePath_, std::ios::binary);
-  if (!file) throw UsageError("--scene: cannot read '" + scenePath_ + "'");
-  std::stringstream contents;
-  contents << file.rdbuf();
-  toml::table table;
-  try {
-    table = toml::parse(contents.str(), scenePath_);
-  } catch (const toml::parse_error& e) {
-    const auto& where = e.source().begin;
-    throw UsageError("--scene: " + scenePath_ + ":" + std::to_string(where.line) + ":" +
-                     std::to_string(where.column) + ": not valid TOML (" +
-                     std::string(e.description()) + ")");
-  }
-  for (const auto& [key, node] : table) {
-    const std::string name(key.str());
-    const std::string source = scenePath_ + ": " + name;
-    auto spec =
-        std::find_if(specs_.begin(), specs_.end(), [&](const Spec& s) { return s.name == name; });
-    if (spec == specs_.end()) {
-      if (everyKey().count(name)) continue;  // another command's flag: one scene serves all
-      std::string known;
-      for (const Spec& s : specs_) known += (known.empty() ? "" : ", ") + s.name;
-      throw UsageError(source + ": unknown key (accepted: " + known + ")");
-    }
-    values[name] = tomlText(source, node, spec->kind);
-  }
-  return values;
+void Options::addFlag(const std::string& name, const std::string& help, bool& value) {
+  everyKey().insert(name);
+  command_.add_flag("--" + name, value, help);
+  flags_[name] = &value;
 }
 
-void Options::resolve() {
-  const std::map<std::string, std::string> scene = readScene();
-  for (const Spec& spec : specs_) {
-    if (spec.flag->count() > 0) {
-      spec.apply("--" + spec.name, given_.at(spec.name));
-    } else if (auto it = scene.find(spec.name); it != scene.end()) {
-      spec.apply(scenePath_ + ": " + spec.name, it->second);
-    } else if (spec.required) {
-      throw UsageError("--" + spec.name + " is required: " + spec.flag->get_description());
-    }
+void Options::addSceneFlags(Scene& scene, std::optional<unsigned>& device) {
+  scene_ = &scene;
+  for (const SceneKey& key : sceneKeys(KeyTable::Top)) {
+    CLI::Option* flag = command_.add_option("--" + key.name, values_[key.name],
+                                            key.help + " [" + key.fallback + "]");
+    flag->type_name(key.kind == KeyKind::Vector ? "X,Y,Z"
+                    : key.kind == KeyKind::Name ? "NAME"
+                                                : "NUM");
+    sceneFlags_.emplace_back(key.name, flag);
   }
-}
-
-void Options::addSceneFlags(Scene& s, std::optional<unsigned>& device) {
-  const Scene d;
-  auto vec = [](const glm::vec3& v) {
-    return formatNumber(v.x) + "," + formatNumber(v.y) + "," + formatNumber(v.z);
-  };
-  auto f = [](float v) { return formatNumber(v); };
-  add("particles", Kind::Number,
-      "ring-buffer capacity, 1..2^31 (device permitting) [" + std::to_string(d.particles) + "]",
-      [&s](const std::string& src, const std::string& t) {
-        s.particles = static_cast<uint32_t>(parseInteger(src, t, 1, 0x80000000u));
-      });
-  add("rate", Kind::Number, "emission rate in particles/s, 0..1e9 [" + formatNumber(d.rate) + "]",
-      [&s](const std::string& src, const std::string& t) { s.rate = parseNumber(src, t, 0, 1e9); });
-  add("dt", Kind::Number, "step h in seconds, 1e-6..1 [" + f(d.dt) + "]",
-      [&s](const std::string& src, const std::string& t) {
-        s.dt = static_cast<float>(parseNumber(src, t, 1e-6, 1));
-      });
-  add("gravity", Kind::Number, "g in m/s^2, -1000..1000 [" + f(d.gravity) + "]",
-      [&s](const std::string& src, const std::string& t) {
-        s.gravity = static_cast<float>(parseNumber(src, t, -1000, 1000));
-      });
-  add("restitution", Kind::Number, "bounce coefficient epsilon, 0..1 [" + f(d.restitution) + "]",
-      [&s](const std::string& src, const std::string& t) {
-        s.restitution = static_cast<float>(parseNumber(src, t, 0, 1));
-      });
-  add("friction", Kind::Number,
-      "tangential velocity kept per bounce alpha, 0..1 [" + f(d.friction) + "]",
-      [&s](const std::string& src, const std::string& t) {
-        s.friction = static_cast<float>(parseNumber(src, t, 0, 1));
-      });
-  add("line-scale", Kind::Number, "line length s in seconds, 0..10 [" + f(d.lineScale) + "]",
-      [&s](const std::string& src, const std::string& t) {
-        s.lineScale = static_cast<float>(parseNumber(src, t, 0, 10));
-      });
-  add("emitter", Kind::Vector, "emitter centre in m, each -1e4..1e4 [" + vec(d.emitter) + "]",
-      [&s](const std::string& src, const std::string& t) {
-        s.emitter = parseVec3(src, t, -1e4, 1e4);
-      });
-  add("emitter-radius", Kind::Number,
-      "emitter disc radius in m, 0..1e4 [" + f(d.emitterRadius) + "]",
-      [&s](const std::string& src, const std::string& t) {
-        s.emitterRadius = static_cast<float>(parseNumber(src, t, 0, 1e4));
-      });
-  add("velocity", Kind::Vector,
-      "mean launch velocity in m/s, each -1e4..1e4 [" + vec(d.velocity) + "]",
-      [&s](const std::string& src, const std::string& t) {
-        s.velocity = parseVec3(src, t, -1e4, 1e4);
-      });
-  add("spread", Kind::Vector, "launch velocity spread in m/s, each 0..1e4 [" + vec(d.spread) + "]",
-      [&s](const std::string& src, const std::string& t) { s.spread = parseVec3(src, t, 0, 1e4); });
-  add("mass", Kind::Number, "particle mass in kg, 1e-6..1e6 [" + f(d.mass) + "]",
-      [&s](const std::string& src, const std::string& t) {
-        s.mass = static_cast<float>(parseNumber(src, t, 1e-6, 1e6));
-      });
-  add("wind", Kind::Vector, "wind force in N, each -1e4..1e4 [" + vec(d.wind) + "]",
-      [&s](const std::string& src, const std::string& t) {
-        s.wind = parseVec3(src, t, -1e4, 1e4);
-      });
-  add("drag", Kind::Number, "linear drag in N s/m, 0..1e4 [" + f(d.drag) + "]",
-      [&s](const std::string& src, const std::string& t) {
-        s.drag = static_cast<float>(parseNumber(src, t, 0, 1e4));
-      });
-  add("seed", Kind::Number, "random seed, 0..4294967295 [" + std::to_string(d.seed) + "]",
-      [&s](const std::string& src, const std::string& t) {
-        s.seed = static_cast<uint32_t>(parseInteger(src, t, 0, 0xffffffffu));
-      });
-  add("device", Kind::Number, "Vulkan device index from 'lava info' [best; or LAVA_DEVICE]",
+  add("device", "Vulkan device index from 'lava info' [best; or LAVA_DEVICE]",
       [&device](const std::string& src, const std::string& t) {
         device = static_cast<unsigned>(parseInteger(src, t, 0, 255));
       });
+}
+
+bool Options::given(const std::string& name) const {
+  for (const Spec& s : specs_)
+    if (s.name == name) return s.flag->count() > 0;
+  for (const auto& [key, flag] : sceneFlags_)
+    if (key == name) return flag->count() > 0;
+  return false;
+}
+
+void Options::resolve() {
+  std::map<std::string, std::string> fromFile;
+  if (!scenePath_.empty() || command_.count("--scene") > 0) {
+    const auto other = [&](const std::string& key, const std::string& text) {
+      const bool ours =
+          std::any_of(specs_.begin(), specs_.end(), [&](const Spec& s) { return s.name == key; }) ||
+          flags_.count(key);
+      if (ours) fromFile[key] = text;
+      return ours || everyKey().count(key) > 0;  // another command's option: passed over
+    };
+    try {
+      Scene read = loadScene(scenePath_, other);
+      if (scene_) *scene_ = std::move(read);
+    } catch (const InvalidArgument& e) {
+      if (e.parameter() == scenePath_ || e.parameter() == "scene")  // the file as a whole
+        throw host::UsageError("--scene: " + (scenePath_.empty() ? "" : scenePath_ + ": ") +
+                               e.detail());
+      throw host::UsageError(e.what());
+    }
+  }
+  if (scene_)
+    for (const auto& [key, flag] : sceneFlags_) {
+      if (flag->count() == 0) continue;
+      try {
+        setSceneKey(*scene_, KeyTable::Top, 0, key, values_.at(key));
+      } catch (const InvalidArgument& e) {
+        throw host::UsageError("--" + e.parameter() + ": " + e.detail());
+      }
+    }
+  for (const auto& [name, value] : flags_) {
+    if (command_.count("--" + name) > 0) continue;
+    if (auto it = fromFile.find(name); it != fromFile.end()) {
+      if (it->second != "true" && it->second != "false")
+        throw host::UsageError(scenePath_ + ": " + name + ": expected true or false, got '" +
+                               it->second + "'");
+      *value = it->second == "true";
+    }
+  }
+  for (const Spec& spec : specs_) {
+    if (spec.flag->count() > 0) {
+      spec.apply("--" + spec.name, values_.at(spec.name));
+    } else if (auto it = fromFile.find(spec.name); it != fromFile.end()) {
+      spec.apply(scenePath_ + ": " + spec.name, it->second);
+    } else if (spec.required) {
+      throw host::UsageError("--" + spec.name + " is required: " + spec.flag->get_description());
+    }
+  }
 }
 
 }  // namespace lava::app

@@ -1,5 +1,6 @@
-// Flags and scene files: every option is a named text value parsed and range-checked by one
-// function, whether it came from the command line (which wins) or from `--scene FILE`.
+// Flags and scene files. The scene flags are the library's scene keys (lava::sceneKeys):
+// a scene file, when given, is read first, then the command line overrides it. A command's
+// own options can be set from the same file; keys of other commands are passed over.
 #pragma once
 #include <CLI/CLI.hpp>
 
@@ -11,46 +12,46 @@
 #include <string>
 #include <vector>
 
-#include "scene.h"
+#include "lava/scene.h"
 
 namespace lava::app {
 
-// Parsers: throw UsageError("<source>: expected ..., got '<text>'").
+// Parsers: throw host::UsageError("<source>: expected ..., got '<text>'").
 uint64_t parseInteger(const std::string& source, const std::string& text, uint64_t lo, uint64_t hi);
 double parseNumber(const std::string& source, const std::string& text, double lo, double hi,
                    bool loOpen = false);
-glm::vec3 parseVec3(const std::string& source, const std::string& text, double lo, double hi);
-
-enum class Kind { Number, Vector, Text };
 
 class Options {
  public:
   using Apply = std::function<void(const std::string& source, const std::string& text)>;
 
   explicit Options(CLI::App& command);
-  // A flag `--name`; also the scene key `name`. Help should give the default and range.
-  void add(const std::string& name, Kind kind, const std::string& help, Apply apply,
-           bool required = false);
-  // The SPEC §2 flags writing into `scene`, plus --device.
+  // A command option `--name VALUE`, also the scene-file key `name`.
+  void add(const std::string& name, const std::string& help, Apply apply, bool required = false);
+  // A boolean `--name`, also `name = true` in a scene file.
+  void addFlag(const std::string& name, const std::string& help, bool& value);
+  // The scene keys as flags, writing into `scene`, and --device.
   void addSceneFlags(Scene& scene, std::optional<unsigned>& device);
-  // After CLI parsing: reads the scene file, then applies each given value in order.
+  // After CLI parsing: the scene file, then this command's values from it, then the flags.
   void resolve();
+  // Whether --name was given on the command line.
+  bool given(const std::string& name) const;
 
  private:
   struct Spec {
     std::string name;
-    Kind kind;
     Apply apply;
     bool required;
     CLI::Option* flag;
   };
-  std::map<std::string, std::string> readScene() const;
-  // The flags of every command: a scene file may hold keys of commands other than this one.
-  static std::set<std::string>& everyKey();
+  static std::set<std::string>& everyKey();  // the options of every command
 
   CLI::App& command_;
   std::vector<Spec> specs_;
-  std::map<std::string, std::string> given_;
+  std::map<std::string, std::string> values_;  // text of each given option
+  std::map<std::string, bool*> flags_;
+  Scene* scene_ = nullptr;
+  std::vector<std::pair<std::string, CLI::Option*>> sceneFlags_;
   std::string scenePath_;
 };
 

@@ -6,10 +6,10 @@
 
 #include "commands.h"
 #include "frames.h"
+#include "host/output.h"
+#include "lava/device.h"
 #include "options.h"
 #include "runtime.h"
-#include "state_io.h"
-#include "vk_check.h"
 
 namespace lava::app {
 namespace {
@@ -25,47 +25,47 @@ class RenderCommand final : public Command {
         options_(*command_) {
     options_.addSceneFlags(scene_, device_);
     options_.add(
-        "frames", Kind::Number, "frames to write, 1..100000 (required)",
+        "frames", "frames to write, 1..100000 (required)",
         [this](const std::string& src, const std::string& t) {
           plan_.frames = static_cast<uint32_t>(parseInteger(src, t, 1, 100000));
         },
         true);
-    options_.add("fps", Kind::Number, "frames per simulated second, (0, 1000] [30]",
+    options_.add("fps", "frames per simulated second, (0, 1000] [30]",
                  [this](const std::string& src, const std::string& t) {
                    plan_.fps = parseNumber(src, t, 0, 1000, true);
                  });
     options_.add(
-        "size", Kind::Text, "image size WxH, each 1..the device limit [1280x720]",
+        "size", "image size WxH, each 1..the device limit [1280x720]",
         [this](const std::string& src, const std::string& t) { plan_.size = parseSize(src, t); });
-    options_.add("warmup", Kind::Number, "seconds simulated before the first frame, 0..600 [3]",
+    options_.add("warmup", "seconds simulated before the first frame, 0..600 [3]",
                  [this](const std::string& src, const std::string& t) {
                    plan_.warmup = parseNumber(src, t, 0, 600);
                  });
     options_.add(
-        "out", Kind::Text, "folder for frame_00000.png ... (created if missing)",
+        "out", "folder for frame_00000.png ... (created if missing)",
         [this](const std::string& src, const std::string& t) {
           plan_.folder = outputFolder(src, t);
         },
         true);
-    options_.add("renderer", Kind::Text,
+    options_.add("renderer",
                  "lines (the graphics pipeline, the reference) or splat (compute) [lines]",
                  [this](const std::string& src, const std::string& t) {
                    plan_.lines = parseLineMode(src, t);
                  });
     options_.add(
-        "video", Kind::Text, "also encode FILE.mp4 with ffmpeg (must be installed)",
+        "video", "also encode FILE.mp4 with ffmpeg (must be installed)",
         [this](const std::string& src, const std::string& t) {
-          checkOutputPath(src, t, ".mp4");
+          host::checkOutputPath(src, t, ".mp4");
           if (!haveFfmpeg())
-            throw UsageError(src + ": needs ffmpeg on the PATH (Debian: apt install ffmpeg)");
+            throw host::UsageError(src + ": needs ffmpeg on the PATH (Debian: apt install ffmpeg)");
           video_ = t;
         });
   }
 
   int run() override {
     options_.resolve();
-    Context context(contextOptions(device_));
-    renderFrames(context, scene_, plan_);
+    Device device(deviceOptions(device_));
+    renderFrames(device, scene_, plan_);
     std::printf("render: wrote %u frames (%ux%u) to %s/frame_*.png\n", plan_.frames,
                 plan_.size.width, plan_.size.height, plan_.folder.c_str());
     if (!video_.empty()) {
@@ -76,11 +76,11 @@ class RenderCommand final : public Command {
                     plan_.fps, plan_.folder.c_str(), video_.c_str());
       if (std::system(command) != 0) {
         std::fprintf(stderr, "lava: ffmpeg failed to encode '%s'\n", video_.c_str());
-        return finish(context, 1);
+        return finish(device, 1);
       }
       std::printf("render: encoded %s\n", video_.c_str());
     }
-    return finish(context, 0);
+    return finish(device, 0);
   }
 
  private:

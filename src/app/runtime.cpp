@@ -2,23 +2,50 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
+#include "host/output.h"
+
 namespace lava::app {
 
-ContextOptions contextOptions(std::optional<unsigned> device) {
-  ContextOptions options;
+bool validationRequested() {
   const char* validation = std::getenv("LAVA_VALIDATION");
-  options.validation = validation && *validation && std::strcmp(validation, "0") != 0;
-  options.syncValidation = options.validation;
-  options.deviceIndex = device;
+  return validation && *validation && std::strcmp(validation, "0") != 0;
+}
+
+namespace {
+const char* source = "--device";
+}
+
+const char* deviceSource() {
+  return source;
+}
+
+DeviceOptions deviceOptions(std::optional<unsigned> device) {
+  DeviceOptions options;
+  source = "--device";
+  options.validation = validationRequested();
+  options.index = device;
+  if (!device)
+    if (const char* env = std::getenv("LAVA_DEVICE"); env && *env) {
+      char* end = nullptr;
+      errno = 0;
+      const unsigned long value = std::strtoul(env, &end, 10);
+      if (*end != '\0' || errno != 0 || env[0] == '-' || value > 255)
+        throw host::UsageError(std::string("LAVA_DEVICE: expected a device index from 'lava info', "
+                                           "got '") +
+                               env + "'");
+      options.index = static_cast<unsigned>(value);
+      source = "LAVA_DEVICE";
+    }
   return options;
 }
 
-int finish(Context& context, int status) {
-  const auto messages = context.takeValidationMessages();
+int finish(Device& device, int status) {
+  const auto messages = device.takeValidationMessages();
   for (const std::string& m : messages) std::fprintf(stderr, "lava: validation: %s\n", m.c_str());
   return messages.empty() ? status : 1;
 }

@@ -1,18 +1,23 @@
-// What every command shares: the Vulkan context options (LAVA_VALIDATION turns the layer
-// on), the report of validation messages, and progress on a terminal.
+// What every command shares: the device Lava creates for the program (LAVA_DEVICE picks it,
+// LAVA_VALIDATION turns the validation layer on), the report of validation messages, and
+// progress on a terminal.
 #pragma once
 #include <cstdint>
 #include <optional>
 #include <string>
 
-#include "context.h"
+#include "lava/device.h"
 
 namespace lava::app {
 
-ContextOptions contextOptions(std::optional<unsigned> device);
+// --device, else LAVA_DEVICE, else Lava's choice; validation from LAVA_VALIDATION.
+DeviceOptions deviceOptions(std::optional<unsigned> device);
+// Where the device index of the last deviceOptions() came from: "--device" or "LAVA_DEVICE".
+const char* deviceSource();
+bool validationRequested();
 
 // Prints any validation messages to stderr; returns 1 if there were some, else `status`.
-int finish(Context& context, int status);
+int finish(Device& device, int status);
 
 class Progress {
  public:

@@ -16,22 +16,19 @@
 #include <optional>
 #include <vector>
 
-#include "camera.h"
-#include "context.h"
-#include "gpu_simulator.h"
-#include "image_io.h"
-#include "line_renderer.h"
-#include "offscreen_target.h"
+#include "host/frame_renderer.h"
+#include "host/offscreen.h"
+#include "host/output.h"
+#include "lava/lava.h"
 #include "shm_presenter.h"
 #include "swapchain.h"
 #include "ui.h"
-#include "vk_check.h"
 
-namespace lava {
+namespace lava::window {
 namespace {
 
 constexpr uint32_t kFramesInFlight = 2;
-constexpr uint32_t kStepsPerFrameMax = GpuSimulator::kStepsPerSubmit / kFramesInFlight;
+constexpr uint32_t kStepsPerFrameMax = 2048;
 constexpr uint32_t kQueriesPerFrame = 3;  // start, after the simulation, after the draw
 
 std::string glfwError() {
@@ -65,53 +62,75 @@ struct GlfwWindow {
   ~GlfwWindow() { glfwDestroyWindow(handle); }
 };
 
+// The window's surface, created only for swapchain presentation.
 struct Surface {
-  VkInstance instance;
+  VkInstance instance = VK_NULL_HANDLE;
   VkSurfaceKHR handle = VK_NULL_HANDLE;
+  Surface() = default;
   Surface(VkInstance i, GLFWwindow* window) : instance(i) {
-    VK_CHECK(glfwCreateWindowSurface(instance, window, nullptr, &handle));
+    HOST_CHECK(glfwCreateWindowSurface(instance, window, nullptr, &handle));
   }
-  ~Surface() { vkDestroySurfaceKHR(instance, handle, nullptr); }
+  Surface(const Surface&) = delete;
+  Surface& operator=(Surface&& other) noexcept {
+    std::swap(instance, other.instance);
+    std::swap(handle, other.handle);
+    return *this;
+  }
+  ~Surface() {
+    if (handle) vkDestroySurfaceKHR(instance, handle, nullptr);
+  }
 };
 
-ContextOptions windowContextOptions(const DemoOptions& options) {
+DeviceOptions windowDeviceOptions(const DemoOptions& options) {
   uint32_t count = 0;
   const char** extensions = glfwGetRequiredInstanceExtensions(&count);
   if (!extensions) throw NoDisplay("no Vulkan surface extensions for this display");
-  ContextOptions context;
-  context.instanceExtensions.assign(extensions, extensions + count);
-  context.swapchain = true;
-  context.hostImport = true;  // MIT-SHM presentation renders into the X server's memory
-  context.validation = options.validation;
-  context.syncValidation = options.validation;
-  context.deviceIndex = options.device;
-  return context;
+  DeviceOptions device;
+  device.instanceExtensions.assign(extensions, extensions + count);
+  // Where offered: presentation, and MIT-SHM rendering into the X server's memory.
+  device.deviceExtensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME,
+                             VK_EXT_EXTERNAL_MEMORY_HOST_EXTENSION_NAME};
+  device.validation = options.validation;
+  device.index = options.device;
+  return device;
 }
 
 struct FrameSlot {
   VkCommandBuffer commands = VK_NULL_HANDLE;
-  UniqueFence inFlight;
+  host::OwnedFence inFlight;
   bool timed = false;  // its queries hold results from a finished frame
 };
 
+uint64_t timestampMask(const Device& device) {
+  uint32_t count = 0;
+  VkPhysicalDevice physical = device.handles().physicalDevice;
+  vkGetPhysicalDeviceQueueFamilyProperties(physical, &count, nullptr);
+  std::vector<VkQueueFamilyProperties> families(count);
+  vkGetPhysicalDeviceQueueFamilyProperties(physical, &count, families.data());
+  const uint32_t bits = families.at(device.handles().queueFamily).timestampValidBits;
+  return bits >= 64 ? ~uint64_t{0} : (uint64_t{1} << bits) - 1;
+}
+
 // --present, or when it is not given: MIT-SHM for a CPU device (lavapipe) on an X server
 // that can attach our memory, unless vsync was asked for; the swapchain otherwise.
-PresentPath choosePresentPath(const DemoOptions& options, const Context& context,
+PresentPath choosePresentPath(const DemoOptions& options, const Device& device,
                               GLFWwindow* window) {
   std::string why;
   if (options.present == PresentPath::Shm && !ShmPresenter::available(window, &why))
-    throw UsageError("--present: shm is not possible here (" + why + ")");
+    throw host::UsageError("--present: shm is not possible here (" + why + ")");
   if (options.present) return *options.present;
-  if (options.vsync || context.properties().deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU)
+  if (options.vsync || device.properties().deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU)
     return PresentPath::Swapchain;
   return ShmPresenter::available(window, nullptr) ? PresentPath::Shm : PresentPath::Swapchain;
 }
 
-// The render pass's color format for `path`. A window the driver cannot present to at all
-// (a 16-bit X display: Mesa presents to depth 24 and 32 only) is no display for the demo.
-VkSurfaceFormatKHR windowFormat(PresentPath path, const Context& context, VkSurfaceKHR surface) {
+// The frames' color format for `path`. A window the driver cannot present to at all (a
+// 16-bit X display: Mesa presents to depth 24 and 32 only) is no display for the demo.
+VkSurfaceFormatKHR windowFormat(PresentPath path, const Device& device, VkSurfaceKHR surface) {
   if (path == PresentPath::Shm) return {ShmPresenter::kFormat, VK_COLOR_SPACE_SRGB_NONLINEAR_KHR};
-  const std::optional<VkSurfaceFormatKHR> format = Swapchain::chooseFormat(context, surface);
+  if (!device.hasExtension(VK_KHR_SWAPCHAIN_EXTENSION_NAME))
+    throw NoDisplay("the device cannot present (no VK_KHR_swapchain)");
+  const std::optional<VkSurfaceFormatKHR> format = Swapchain::chooseFormat(device, surface);
   if (!format)
     throw NoDisplay(
         "the window surface offers no formats (the driver presents to 24- and 32-bit X "
@@ -125,23 +144,24 @@ class Demo {
       : options_(options),
         scene_(options.scene),
         window_(options.size),
-        context_(windowContextOptions(options)),
-        surface_(context_.instance(), window_.handle),
-        path_(choosePresentPath(options, context_, window_.handle)),
-        format_(windowFormat(path_, context_, surface_.handle)),
-        simulator_(std::make_unique<GpuSimulator>(context_, scene_)),
-        renderer_(context_, *simulator_, format_.format,
-                  path_ == PresentPath::Shm ? ShmPresenter::kFinalLayout
-                                            : VK_IMAGE_LAYOUT_PRESENT_SRC_KHR) {
+        device_(windowDeviceOptions(options)),
+        path_(choosePresentPath(options, device_, window_.handle)),
+        surface_(path_ == PresentPath::Swapchain
+                     ? Surface(device_.handles().instance, window_.handle)
+                     : Surface()),
+        format_(windowFormat(path_, device_, surface_.handle)),
+        simulation_(std::make_unique<GpuSimulation>(device_, scene_, simulationOptions())),
+        renderer_(device_, format_.format, kFramesInFlight),
+        timestampMask_(timestampMask(device_)) {
     if (path_ == PresentPath::Shm)
-      presenter_ = std::make_unique<ShmPresenter>(context_, window_.handle, renderer_.renderPass(),
-                                                  kFramesInFlight);
+      presenter_ = std::make_unique<ShmPresenter>(device_, window_.handle, kFramesInFlight);
     else
-      presenter_ = std::make_unique<Swapchain>(context_, surface_.handle, renderer_.renderPass(),
-                                               format_, options.vsync, kFramesInFlight);
+      presenter_ = std::make_unique<Swapchain>(device_, surface_.handle, format_, options.vsync,
+                                               kFramesInFlight);
     if (!presenter_->resize(framebufferSize())) throw NoDisplay("the window has no area");
-    renderer_.setMode(options.lines);
-    simulator_->advance(stepsIn(scene_, options.warmup));
+    renderer_.lines().setMode(options.lines);
+    simulation_->advance(scene_.stepsIn(options.warmup));
+    simulatedSeconds_ = double(scene_.stepsIn(options.warmup)) * double(scene_.h());
     glfwSetWindowUserPointer(window_.handle, this);
     // Key presses are queued as they arrive (Dear ImGui, set up next, chains to this):
     // ImGui 1.86 keeps only whether a key is down when a frame starts, so a tap pressed and
@@ -150,15 +170,14 @@ class Demo {
       if (action == GLFW_PRESS)
         static_cast<Demo*>(glfwGetWindowUserPointer(w))->pressed_.push_back(key);
     });
-    ui_ = std::make_unique<Ui>(context_, window_.handle, renderer_.renderPass(),
-                               presenter_->imageCount());
+    ui_ = std::make_unique<Ui>(device_, window_.handle, format_.format, presenter_->imageCount());
     createFrameSlots();
     glfwSetFramebufferSizeCallback(window_.handle, [](GLFWwindow* w, int, int) {
       static_cast<Demo*>(glfwGetWindowUserPointer(w))->resized_ = true;
     });
   }
 
-  ~Demo() { vkDeviceWaitIdle(context_.device()); }
+  ~Demo() { vkDeviceWaitIdle(device_.handles().device); }
 
   DemoSummary run() {
     const auto start = std::chrono::steady_clock::now();
@@ -179,17 +198,17 @@ class Demo {
       if (options_.frames && presented >= options_.frames) break;
     }
     presenter_->flush();
-    VK_CHECK(vkDeviceWaitIdle(context_.device()));
+    device_.waitIdle();
     DemoSummary summary;
     summary.frames = presented;
     summary.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     summary.size = presenter_->extent();
-    summary.device = context_.properties().deviceName;
+    summary.device = device_.properties().deviceName;
     summary.presentMode = presenter_->name();
     summary.simulateMs = simulateMs_;
     summary.drawMs = drawMs_;
-    for (const std::string& m : context_.takeValidationMessages()) {
+    for (const std::string& m : device_.takeValidationMessages()) {
       std::fprintf(stderr, "lava: validation: %s\n", m.c_str());
       ++summary.validationMessages;
     }
@@ -204,25 +223,38 @@ class Demo {
     return {uint32_t(std::max(w, 0)), uint32_t(std::max(h, 0))};
   }
 
+  static GpuSimulationOptions simulationOptions() {
+    GpuSimulationOptions o;
+    o.framesInFlight = kFramesInFlight;
+    o.maxStepsPerFrame = kStepsPerFrameMax;
+    return o;
+  }
+
   void createFrameSlots() {
-    VkDevice device = context_.device();
+    VkDevice device = device_.handles().device;
     VkQueryPoolCreateInfo queryInfo{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
     queryInfo.queryType = VK_QUERY_TYPE_TIMESTAMP;
     queryInfo.queryCount = kQueriesPerFrame * kFramesInFlight;
     VkQueryPool queries = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateQueryPool(device, &queryInfo, nullptr, &queries));
-    queries_ = UniqueQueryPool(device, queries);
+    HOST_CHECK(vkCreateQueryPool(device, &queryInfo, nullptr, &queries));
+    queries_ = host::OwnedQueryPool(device, queries);
+    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    poolInfo.queueFamilyIndex = device_.handles().queueFamily;
+    VkCommandPool pool = VK_NULL_HANDLE;
+    HOST_CHECK(vkCreateCommandPool(device, &poolInfo, nullptr, &pool));
+    pool_ = host::OwnedCommandPool(device, pool);
     for (FrameSlot& slot : slots_) {
       VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-      alloc.commandPool = context_.commandPool();
+      alloc.commandPool = pool_;
       alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
       alloc.commandBufferCount = 1;
-      VK_CHECK(vkAllocateCommandBuffers(device, &alloc, &slot.commands));
+      HOST_CHECK(vkAllocateCommandBuffers(device, &alloc, &slot.commands));
       VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
       fenceInfo.flags = VK_FENCE_CREATE_SIGNALED_BIT;
       VkFence fence = VK_NULL_HANDLE;
-      VK_CHECK(vkCreateFence(device, &fenceInfo, nullptr, &fence));
-      slot.inFlight = UniqueFence(device, fence);
+      HOST_CHECK(vkCreateFence(device, &fenceInfo, nullptr, &fence));
+      slot.inFlight = host::OwnedFence(device, fence);
     }
   }
 
@@ -259,13 +291,16 @@ class Demo {
   void readTimings(FrameSlot& slot, uint32_t index) {
     if (!slot.timed) return;
     uint64_t stamps[kQueriesPerFrame];
-    if (vkGetQueryPoolResults(context_.device(), queries_, index * kQueriesPerFrame,
+    if (vkGetQueryPoolResults(device_.handles().device, queries_, index * kQueriesPerFrame,
                               kQueriesPerFrame, sizeof(stamps), stamps, sizeof(uint64_t),
                               VK_QUERY_RESULT_64_BIT) != VK_SUCCESS)
       return;
-    const double period = context_.limits().timestampPeriod * 1e-6;  // ticks to ms
-    simulateMs_ = simulateMs_ * 0.9 + 0.1 * double(stamps[1] - stamps[0]) * period;
-    drawMs_ = drawMs_ * 0.9 + 0.1 * double(stamps[2] - stamps[1]) * period;
+    const double period = device_.limits().timestampPeriod * 1e-6;  // ticks to ms
+    const auto ticks = [this](uint64_t a, uint64_t b) {
+      return double(((b & timestampMask_) - (a & timestampMask_)) & timestampMask_);
+    };
+    simulateMs_ = simulateMs_ * 0.9 + 0.1 * ticks(stamps[0], stamps[1]) * period;
+    drawMs_ = drawMs_ * 0.9 + 0.1 * ticks(stamps[1], stamps[2]) * period;
   }
 
   // Steps owed for this frame: a fixed h decoupled from the frame rate (at most 0.1 s of
@@ -277,8 +312,9 @@ class Demo {
     }
     if (paused_) return 0;
     owedSeconds_ += std::min(frameSeconds, 0.1) * speed_;
-    const double steps = std::floor(owedSeconds_ / double(scene_.dt));
-    owedSeconds_ -= steps * double(scene_.dt);
+    const double h = double(scene_.h());
+    const double steps = std::floor(owedSeconds_ / h);
+    owedSeconds_ -= steps * h;
     return static_cast<uint32_t>(std::min(steps, double(kStepsPerFrameMax)));
   }
 
@@ -326,11 +362,10 @@ class Demo {
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowBgAlpha(0.75f);
     ImGui::Begin("Lava", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
-    ImGui::Text("%s", context_.properties().deviceName);
+    ImGui::Text("%s", device_.properties().deviceName);
     ImGui::Text("%.1f fps   GPU: simulate %.2f ms, draw %.2f ms", fps_, simulateMs_, drawMs_);
-    const uint64_t alive = std::min<uint64_t>(simulator_->clock().serial, scene_.particles);
-    ImGui::Text("alive %llu / %u   t = %.2f s", static_cast<unsigned long long>(alive),
-                scene_.particles, double(simulator_->clock().steps) * double(scene_.dt));
+    ImGui::Text("alive %llu / %llu   t = %.2f s", static_cast<unsigned long long>(alive()),
+                static_cast<unsigned long long>(scene_.particles()), simulatedSeconds_);
     ImGui::Checkbox("pause [Space]", &paused_);
     ImGui::SameLine();
     if (ImGui::Button("step [N]")) stepOnce_ = true;
@@ -339,41 +374,48 @@ class Demo {
     ImGui::SameLine();
     if (ImGui::Button("screenshot [P]")) screenshot_ = true;
     ImGui::SliderFloat("speed", &speed_, 0.0f, 4.0f);
-    bool splat = renderer_.mode() == LineMode::Splat;
+    bool splat = renderer_.lines().mode() == LineMode::Splat;
     if (ImGui::Checkbox("compute line splatting (off: graphics pipeline)", &splat))
-      renderer_.setMode(splat ? LineMode::Splat : LineMode::Pipeline);
+      renderer_.lines().setMode(splat ? LineMode::Splat : LineMode::Lines);
 
     // Closed at start: the panel is drawn every frame, and on a CPU device a short panel
     // costs a fraction of a long one (docs/benchmarks.md).
     if (ImGui::CollapsingHeader("scene parameters")) {
       Scene s = scene_;
-      float rate = float(s.rate);
+      Emitter& e = s.emitters.at(0);
+      float rate = float(e.rate);
       ImGui::SliderFloat("rate (1/s)", &rate, 0.0f, 100000.0f, "%.0f",
                          ImGuiSliderFlags_Logarithmic);
-      s.rate = rate;
-      ImGui::SliderFloat("dt (s)", &s.dt, 0.0001f, 0.01f, "%.4f", ImGuiSliderFlags_Logarithmic);
+      e.rate = rate;
+      float dt = s.h();
+      ImGui::SliderFloat("dt (s)", &dt, 0.0001f, 0.01f, "%.4f", ImGuiSliderFlags_Logarithmic);
+      s.dt = dt;
       ImGui::SliderFloat("gravity (m/s2)", &s.gravity, -20.0f, 30.0f);
       ImGui::SliderFloat("restitution", &s.restitution, 0.0f, 1.0f);
       ImGui::SliderFloat("friction (kept)", &s.friction, 0.0f, 1.0f);
       ImGui::SliderFloat("line scale (s)", &s.lineScale, 0.0f, 0.2f);
-      ImGui::SliderFloat3("emitter (m)", &s.emitter.x, -3.0f, 3.0f);
-      ImGui::SliderFloat("emitter radius (m)", &s.emitterRadius, 0.0f, 2.0f);
-      ImGui::SliderFloat3("velocity (m/s)", &s.velocity.x, -15.0f, 15.0f);
-      ImGui::SliderFloat3("spread (m/s)", &s.spread.x, 0.0f, 8.0f);
-      ImGui::SliderFloat("mass (kg)", &s.mass, 0.05f, 20.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
+      ImGui::SliderFloat3("emitter (m)", &e.position.x, -3.0f, 3.0f);
+      ImGui::SliderFloat("emitter radius (m)", &e.radius, 0.0f, 2.0f);
+      ImGui::SliderFloat3("velocity (m/s)", &e.velocity.x, -15.0f, 15.0f);
+      ImGui::SliderFloat3("spread (m/s)", &e.spread.x, 0.0f, 8.0f);
+      ImGui::SliderFloat("mass (kg)", &e.mass, 0.05f, 20.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
       ImGui::SliderFloat3("wind (N)", &s.wind.x, -10.0f, 10.0f);
       ImGui::SliderFloat("drag (N s/m)", &s.drag, 0.0f, 5.0f);
       int seed = int(s.seed & 0x7fffffff);
       ImGui::InputInt("seed", &seed);
       s.seed = uint32_t(std::max(seed, 0));
-      s.dt = std::max(s.dt, 1e-5f);
-      s.mass = std::max(s.mass, 1e-3f);
-      scene_ = s;
-      simulator_->setScene(scene_);
+      s.dt = std::max(s.dt, 1e-5);
+      e.mass = std::max(e.mass, 1e-3f);
+      try {
+        simulation_->setScene(s);
+        scene_ = s;
+      } catch (const InvalidArgument&) {
+        // A value the model does not accept (a slider's end): the scene stays as it was.
+      }
 
       ImGui::InputInt("particles", &pendingParticles_, 1024, 65536);
       pendingParticles_ = std::clamp(pendingParticles_, 1,
-                                     int(std::min<uint64_t>(maxParticles(context_), 1u << 30)));
+                                     int(std::min<uint64_t>(device_.maxParticles(), 1u << 30)));
       ImGui::SameLine();
       if (ImGui::Button("restart")) restart_ = true;
     }
@@ -381,31 +423,39 @@ class Demo {
     ImGui::End();
   }
 
+  // Slots born at least once (the clocks stay on the host: no read-back).
+  uint64_t alive() const {
+    uint64_t n = 0;
+    for (size_t k = 0; k < scene_.emitters.size(); ++k)
+      n += std::min<uint64_t>(simulation_->clocks()[k].serial, scene_.emitters[k].particles);
+    return n;
+  }
+
   void applyRequests() {
     if (restart_ || reset_) {
-      VK_CHECK(vkDeviceWaitIdle(context_.device()));
+      device_.waitIdle();
       if (restart_) {
-        scene_.particles = uint32_t(pendingParticles_);
-        simulator_.reset();
-        simulator_ = std::make_unique<GpuSimulator>(context_, scene_);
-        renderer_.bind(*simulator_);
+        scene_.emitters.at(0).particles = uint32_t(pendingParticles_);
+        simulation_.reset();
+        simulation_ = std::make_unique<GpuSimulation>(device_, scene_, simulationOptions());
       } else {
-        simulator_->load(initialState(scene_));
+        simulation_->setState(initialState(scene_));
       }
+      simulatedSeconds_ = 0.0;
       restart_ = reset_ = false;
       owedSeconds_ = 0.0;
     }
     if (screenshot_) {
       screenshot_ = false;
-      VK_CHECK(vkDeviceWaitIdle(context_.device()));
-      LineRenderer offscreen(context_, *simulator_, OffscreenTarget::kColorFormat,
-                             VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
-      offscreen.setMode(renderer_.mode());
-      OffscreenTarget target(context_, offscreen.renderPass(), presenter_->extent());
+      device_.waitIdle();
+      host::FrameRenderer offscreen(device_, host::OffscreenTarget::kColorFormat, 1);
+      offscreen.lines().setMode(renderer_.lines().mode());
+      const host::OffscreenTarget target(device_, presenter_->extent());
+      const host::Submitter submitter(device_);
       char name[64];
       std::snprintf(name, sizeof(name), "lava-screenshot-%03u.png", screenshots_++);
-      writePng(name, target.extent().width, target.extent().height,
-               renderOffscreen(context_, offscreen, target, camera_, scene_));
+      host::writePng(name, target.extent().width, target.extent().height,
+                     host::renderOffscreen(submitter, offscreen, *simulation_, target, camera_));
       std::printf("demo: saved %s\n", name);
     }
   }
@@ -415,17 +465,19 @@ class Demo {
     if (minimisedByExercise_ || glfwGetWindowAttrib(window_.handle, GLFW_ICONIFIED)) return false;
     if (resized_) {
       if (!presenter_->resize(framebufferSize())) return false;
+      ui_->forgetTargets();
       ImGui_ImplVulkan_SetMinImageCount(2);
       resized_ = false;
     }
     const uint32_t index = frame_ % kFramesInFlight;
     FrameSlot& slot = slots_[index];
     VkFence fence = slot.inFlight;
-    VK_CHECK(vkWaitForFences(context_.device(), 1, &fence, VK_TRUE, UINT64_MAX));
+    VkDevice device = device_.handles().device;
+    HOST_CHECK(vkWaitForFences(device, 1, &fence, VK_TRUE, UINT64_MAX));
     readTimings(slot, index);
 
-    const RenderTarget target = presenter_->acquire(index);
-    if (!target.framebuffer) {
+    const host::FrameTarget target = presenter_->acquire(index);
+    if (!target.color) {
       resized_ = true;
       return false;
     }
@@ -438,28 +490,28 @@ class Demo {
     ImGui::Render();
     applyRequests();
     const uint32_t steps = stepsFor(frameSeconds);
+    // This slot's previous frame has finished: its schedule may be planned over.
+    simulation_->update(index, steps);
+    simulatedSeconds_ += double(steps) * double(scene_.h());
 
-    VK_CHECK(vkResetFences(context_.device(), 1, &fence));
+    HOST_CHECK(vkResetFences(device, 1, &fence));
     VkCommandBuffer commands = slot.commands;
-    VK_CHECK(vkResetCommandBuffer(commands, 0));
+    HOST_CHECK(vkResetCommandBuffer(commands, 0));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkBeginCommandBuffer(commands, &begin));
+    HOST_CHECK(vkBeginCommandBuffer(commands, &begin));
     const uint32_t query = index * kQueriesPerFrame;
     vkCmdResetQueryPool(commands, queries_, query, kQueriesPerFrame);
     vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, query);
-    if (steps > 0) {
-      const uint32_t first = index * kStepsPerFrameMax;  // this slot's schedule entries
-      simulator_->planSteps(first, steps);
-      simulator_->recordSteps(commands, first, steps);
-    }
+    simulation_->recordSimulate(commands, index);
     vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, queries_, query + 1);
-    renderer_.record(commands, target, camera_, scene_, [](VkCommandBuffer c) {
-      ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), c);
-    });
-    presenter_->recordAfterPass(commands, index);
+    const auto overlay = [&](VkCommandBuffer c) {
+      if (showUi_) ui_->record(c, target.colorView, target.extent);
+    };
+    renderer_.record(commands, index, *simulation_, target, camera_, overlay);
+    presenter_->recordAfterFrame(commands, index);
     vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, query + 2);
-    VK_CHECK(vkEndCommandBuffer(commands));
+    HOST_CHECK(vkEndCommandBuffer(commands));
 
     if (!presenter_->submitAndPresent(commands, fence, index)) resized_ = true;
     slot.timed = true;
@@ -470,15 +522,17 @@ class Demo {
   DemoOptions options_;
   Scene scene_;
   GlfwWindow window_;
-  Context context_;
-  Surface surface_;
+  Device device_;
   PresentPath path_;
+  Surface surface_;
   VkSurfaceFormatKHR format_;
-  std::unique_ptr<GpuSimulator> simulator_;
-  LineRenderer renderer_;
+  std::unique_ptr<GpuSimulation> simulation_;
+  host::FrameRenderer renderer_;
+  uint64_t timestampMask_;
   std::unique_ptr<Presenter> presenter_;
   std::unique_ptr<Ui> ui_;
-  UniqueQueryPool queries_;
+  host::OwnedQueryPool queries_;
+  host::OwnedCommandPool pool_;
   std::array<FrameSlot, kFramesInFlight> slots_;
   OrbitCamera camera_;
   uint64_t frame_ = 0;
@@ -489,8 +543,9 @@ class Demo {
   bool showUi_ = true;
   float speed_ = 1.0f;
   double owedSeconds_ = 0.0;
+  double simulatedSeconds_ = 0.0;  // the steps' sizes summed (h may change in the panel)
   double fps_ = 0.0, simulateMs_ = 0.0, drawMs_ = 0.0;
-  int pendingParticles_ = int(options_.scene.particles);
+  int pendingParticles_ = int(options_.scene.emitters.at(0).particles);
   uint32_t screenshots_ = 0;
 };
 
@@ -502,4 +557,4 @@ DemoSummary runDemoWindow(const DemoOptions& options) {
   return demo.run();
 }
 
-}  // namespace lava
+}  // namespace lava::window

@@ -1,6 +1,6 @@
-// The interactive lava demo: a GLFW window presenting the same LineRenderer through a
-// swapchain, a fixed-step simulation decoupled from the frame rate, an orbit camera, and a
-// Dear ImGui panel with every scene parameter live and GPU timings.
+// The interactive lava demo: a GLFW window presenting the program's frames through a
+// swapchain or MIT-SHM, a fixed-step simulation decoupled from the frame rate, an orbit camera, and
+// a Dear ImGui panel with every scene parameter live and GPU timings.
 #pragma once
 #include <vulkan/vulkan.h>
 
@@ -8,11 +8,11 @@
 #include <stdexcept>
 #include <string>
 
-#include "line_renderer.h"
+#include "lava/renderer.h"
+#include "lava/scene.h"
 #include "presenter.h"
-#include "scene.h"
 
-namespace lava {
+namespace lava::window {
 
 // No window could be opened (no display, no Vulkan surface support): fall back to headless.
 class NoDisplay : public std::runtime_error {
@@ -27,7 +27,7 @@ struct DemoOptions {
   bool vsync = false;   // FIFO presentation; else mailbox or immediate when offered
   std::optional<PresentPath> present;  // unset: MIT-SHM for CPU devices on X11, else swapchain
   bool exercise = false;  // resize, minimise and restore the window on a schedule (tests)
-  LineMode lines = LineMode::Pipeline;
+  LineMode lines = LineMode::Lines;
   double warmup = 0.0;  // seconds simulated before the first frame
   std::optional<unsigned> device;
   bool validation = false;
@@ -48,4 +48,4 @@ struct DemoSummary {
 // no window to open.
 DemoSummary runDemoWindow(const DemoOptions& options);
 
-}  // namespace lava
+}  // namespace lava::window

@@ -1,13 +1,13 @@
 #include "presenter.h"
 
-#include "vk_check.h"
+#include "host/output.h"
 
-namespace lava {
+namespace lava::window {
 
 PresentPath parsePresentPath(const std::string& source, const std::string& text) {
   if (text == "swapchain") return PresentPath::Swapchain;
   if (text == "shm") return PresentPath::Shm;
-  throw UsageError(source + ": expected swapchain or shm, got '" + text + "'");
+  throw host::UsageError(source + ": expected swapchain or shm, got '" + text + "'");
 }
 
-}  // namespace lava
+}  // namespace lava::window

@@ -8,14 +8,14 @@
 #include <optional>
 #include <string>
 
-#include "offscreen_target.h"
+#include "host/offscreen.h"
 
-namespace lava {
+namespace lava::window {
 
 // How `lava demo` presents (--present).
 enum class PresentPath { Swapchain, Shm };
 
-// Parses "swapchain" or "shm" for the flag named by `source` (UsageError otherwise).
+// Parses "swapchain" or "shm" for the flag named by `source` (host::UsageError otherwise).
 PresentPath parsePresentPath(const std::string& source, const std::string& text);
 
 class Presenter {
@@ -32,11 +32,11 @@ class Presenter {
   virtual bool resize(VkExtent2D framebufferSize) = 0;
   virtual VkExtent2D extent() const = 0;
 
-  // The target of `slot`'s next frame; its framebuffer is VK_NULL_HANDLE when the targets
+  // The target of `slot`'s next frame; its color image is VK_NULL_HANDLE when the targets
   // are out of date (resize, then try again).
-  virtual RenderTarget acquire(uint32_t slot) = 0;
-  // Records what must follow the render pass in the frame's command buffer.
-  virtual void recordAfterPass(VkCommandBuffer commands, uint32_t slot) = 0;
+  virtual host::FrameTarget acquire(uint32_t slot) = 0;
+  // Records what must follow the frame in its command buffer.
+  virtual void recordAfterFrame(VkCommandBuffer commands, uint32_t slot) = 0;
   // Submits the frame (signalling `done` when it finished) and presents it; false when the
   // targets went out of date on the way.
   virtual bool submitAndPresent(VkCommandBuffer commands, VkFence done, uint32_t slot) = 0;
@@ -44,4 +44,4 @@ class Presenter {
   virtual void flush() {}
 };
 
-}  // namespace lava
+}  // namespace lava::window

@@ -9,14 +9,14 @@
 #include <cstring>
 #include <optional>
 
-#include "vk_check.h"
+#include "host/output.h"
 
 // Xlib last: its macros (None, Bool, Status, ...) must not reach the headers above.
 #include <X11/Xlib.h>
 #include <X11/Xutil.h>
 #include <X11/extensions/XShm.h>
 
-namespace lava {
+namespace lava::window {
 namespace {
 
 // GLFW's X11 handles, looked up at run time: Debian's GLFW may be its Wayland build, which
@@ -171,20 +171,19 @@ bool ShmPresenter::available(GLFWwindow* window, std::string* why) {
   }
 }
 
-ShmPresenter::ShmPresenter(const Context& context, GLFWwindow* window, VkRenderPass renderPass,
-                           uint32_t slots)
-    : context_(context), renderPass_(renderPass), x11_(std::make_unique<X11>()), slots_(slots) {
+ShmPresenter::ShmPresenter(const Device& device, GLFWwindow* window, uint32_t slots)
+    : device_(device), x11_(std::make_unique<X11>()), slots_(slots) {
   openX11(window, *x11_);
   x11_->gc = XCreateGC(x11_->display, x11_->window, 0, nullptr);
 }
 
 ShmPresenter::~ShmPresenter() {
-  vkDeviceWaitIdle(context_.device());
+  vkDeviceWaitIdle(device_.handles().device);
   slots_.clear();
 }
 
 bool ShmPresenter::resize(VkExtent2D framebufferSize) {
-  VK_CHECK(vkDeviceWaitIdle(context_.device()));
+  HOST_CHECK(vkDeviceWaitIdle(device_.handles().device));
   pending_ = false;  // drawn for the old size: dropped
   for (Slot& slot : slots_) {
     slot.target.reset();  // its color image may live in the segment's memory
@@ -194,28 +193,33 @@ bool ShmPresenter::resize(VkExtent2D framebufferSize) {
   if (framebufferSize.width == 0 || framebufferSize.height == 0) return false;
   // The pass renders straight into the segment when the device can use host memory for a
   // packed linear image; else the frame is read back and put() copies it there.
-  const VkDeviceSize alignment = std::max<VkDeviceSize>(context_.hostImportAlignment(), 1);
+  const VkDeviceSize alignment =
+      std::max<VkDeviceSize>(host::OffscreenTarget::hostImportAlignment(device_), 1);
   std::optional<VkDeviceSize> hostBytes;
-  if (OffscreenTarget::hostColorSupported(context_, kFormat))
-    hostBytes = OffscreenTarget::hostBytes(context_, framebufferSize, kFormat);
+  if (host::OffscreenTarget::hostColorSupported(device_, kFormat))
+    hostBytes = host::OffscreenTarget::hostBytes(device_, framebufferSize, kFormat);
   for (Slot& slot : slots_) {
     slot.segment = std::make_unique<Segment>(*x11_, framebufferSize, hostBytes.value_or(0));
     const XImage* image = slot.segment->image;
     const bool inPlace = hostBytes &&
                          size_t(image->bytes_per_line) == size_t(framebufferSize.width) * 4 &&
                          reinterpret_cast<uintptr_t>(image->data) % alignment == 0;
-    if (inPlace)
-      slot.target = std::make_unique<OffscreenTarget>(context_, renderPass_, framebufferSize,
-                                                      kFormat, static_cast<void*>(image->data));
-    else
-      slot.target = std::make_unique<OffscreenTarget>(context_, renderPass_, framebufferSize,
-                                                      kFormat, kFinalLayout);
+    if (inPlace) {
+      try {
+        slot.target = std::make_unique<host::OffscreenTarget>(device_, framebufferSize, kFormat,
+                                                              static_cast<void*>(image->data));
+      } catch (const lava::Error&) {
+        // The driver refused this memory after all: read the frames back instead.
+      }
+    }
+    if (!slot.target)
+      slot.target = std::make_unique<host::OffscreenTarget>(device_, framebufferSize, kFormat);
   }
   extent_ = framebufferSize;
   return true;
 }
 
-RenderTarget ShmPresenter::acquire(uint32_t slot) {
+host::FrameTarget ShmPresenter::acquire(uint32_t slot) {
   if (!slots_[slot].target) return {};
   if (slots_[slot].segment->putPending) {  // the server must be done reading it before it is
     XSync(x11_->display, False);           // written again (by the pass or by put())
@@ -224,7 +228,7 @@ RenderTarget ShmPresenter::acquire(uint32_t slot) {
   return slots_[slot].target->target();
 }
 
-void ShmPresenter::recordAfterPass(VkCommandBuffer commands, uint32_t slot) {
+void ShmPresenter::recordAfterFrame(VkCommandBuffer commands, uint32_t slot) {
   slots_[slot].target->recordReadback(commands);
 }
 
@@ -232,7 +236,7 @@ bool ShmPresenter::submitAndPresent(VkCommandBuffer commands, VkFence done, uint
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &commands;
-  VK_CHECK(vkQueueSubmit(context_.queue(), 1, &submit, done));
+  HOST_CHECK(vkQueueSubmit(device_.handles().queue, 1, &submit, done));
   flush();  // the previous frame, while the device works on this one
   pending_ = true;
   pendingSlot_ = slot;
@@ -243,7 +247,7 @@ bool ShmPresenter::submitAndPresent(VkCommandBuffer commands, VkFence done, uint
 void ShmPresenter::flush() {
   if (!pending_) return;
   pending_ = false;
-  VK_CHECK(vkWaitForFences(context_.device(), 1, &pendingDone_, VK_TRUE, UINT64_MAX));
+  HOST_CHECK(vkWaitForFences(device_.handles().device, 1, &pendingDone_, VK_TRUE, UINT64_MAX));
   put(pendingSlot_);
 }
 
@@ -267,4 +271,4 @@ void ShmPresenter::put(uint32_t index) {
   segment.putPending = true;
 }
 
-}  // namespace lava
+}  // namespace lava::window

@@ -14,13 +14,13 @@
 #include <string>
 #include <vector>
 
-#include "context.h"
-#include "offscreen_target.h"
+#include "host/offscreen.h"
+#include "lava/device.h"
 #include "presenter.h"
 
 struct GLFWwindow;
 
-namespace lava {
+namespace lava::window {
 
 // MIT-SHM presentation is not possible for this window; what() says why.
 class ShmUnavailable : public std::runtime_error {
@@ -30,14 +30,12 @@ class ShmUnavailable : public std::runtime_error {
 
 class ShmPresenter final : public Presenter {
  public:
-  // The render pass's color format: the byte order of a 24-bit TrueColor X visual.
+  // The frames' color format: the byte order of a 24-bit TrueColor X visual.
   static constexpr VkFormat kFormat = VK_FORMAT_B8G8R8A8_UNORM;
-  // The host reads the pass's output in place (or a read-back copies it from there).
-  static constexpr VkImageLayout kFinalLayout = VK_IMAGE_LAYOUT_GENERAL;
 
   // Throws ShmUnavailable when the window is not on X11, the server lacks MIT-SHM or is
   // remote (it cannot attach our segment), or the window's visual is not 32-bit BGRX.
-  ShmPresenter(const Context& context, GLFWwindow* window, VkRenderPass renderPass, uint32_t slots);
+  ShmPresenter(const Device& device, GLFWwindow* window, uint32_t slots);
   // Whether the constructor would succeed for this window; if not, why (in `why`).
   static bool available(GLFWwindow* window, std::string* why);
   ~ShmPresenter() override;
@@ -48,8 +46,8 @@ class ShmPresenter final : public Presenter {
   uint32_t imageCount() const override { return static_cast<uint32_t>(slots_.size()); }
   bool resize(VkExtent2D framebufferSize) override;
   VkExtent2D extent() const override { return extent_; }
-  RenderTarget acquire(uint32_t slot) override;
-  void recordAfterPass(VkCommandBuffer commands, uint32_t slot) override;
+  host::FrameTarget acquire(uint32_t slot) override;
+  void recordAfterFrame(VkCommandBuffer commands, uint32_t slot) override;
   bool submitAndPresent(VkCommandBuffer commands, VkFence done, uint32_t slot) override;
   void flush() override;
 
@@ -59,12 +57,11 @@ class ShmPresenter final : public Presenter {
  private:
   struct Slot {  // the segment first: the target's color image may live in its memory
     std::unique_ptr<Segment> segment;
-    std::unique_ptr<OffscreenTarget> target;  // in the segment itself where the device can
+    std::unique_ptr<host::OffscreenTarget> target;  // in the segment itself where possible
   };
   void put(uint32_t slot);
 
-  const Context& context_;
-  VkRenderPass renderPass_;
+  const Device& device_;
   std::unique_ptr<X11> x11_;
   std::vector<Slot> slots_;
   VkExtent2D extent_{0, 0};
@@ -73,4 +70,4 @@ class ShmPresenter final : public Presenter {
   VkFence pendingDone_ = VK_NULL_HANDLE;
 };
 
-}  // namespace lava
+}  // namespace lava::window

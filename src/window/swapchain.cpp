@@ -2,29 +2,25 @@
 
 #include <algorithm>
 
-#include "line_renderer.h"
-#include "vk_check.h"
-
-namespace lava {
+namespace lava::window {
 namespace {
 
-UniqueSemaphore createSemaphore(VkDevice device) {
+host::OwnedSemaphore createSemaphore(VkDevice device) {
   VkSemaphoreCreateInfo info{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
   VkSemaphore semaphore = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateSemaphore(device, &info, nullptr, &semaphore));
-  return UniqueSemaphore(device, semaphore);
+  HOST_CHECK(vkCreateSemaphore(device, &info, nullptr, &semaphore));
+  return host::OwnedSemaphore(device, semaphore);
 }
 
 }  // namespace
 
-std::optional<VkSurfaceFormatKHR> Swapchain::chooseFormat(const Context& context,
+std::optional<VkSurfaceFormatKHR> Swapchain::chooseFormat(const Device& device,
                                                           VkSurfaceKHR surface) {
+  VkPhysicalDevice physical = device.handles().physicalDevice;
   uint32_t count = 0;
-  VK_CHECK(
-      vkGetPhysicalDeviceSurfaceFormatsKHR(context.physicalDevice(), surface, &count, nullptr));
+  HOST_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(physical, surface, &count, nullptr));
   std::vector<VkSurfaceFormatKHR> formats(count);
-  VK_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(context.physicalDevice(), surface, &count,
-                                                formats.data()));
+  HOST_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(physical, surface, &count, formats.data()));
   if (formats.empty()) return std::nullopt;
   // UNORM like the offscreen target, so window and PNG frames look the same.
   for (const VkSurfaceFormatKHR& f : formats)
@@ -34,21 +30,21 @@ std::optional<VkSurfaceFormatKHR> Swapchain::chooseFormat(const Context& context
   return formats.front();
 }
 
-Swapchain::Swapchain(const Context& context, VkSurfaceKHR surface, VkRenderPass renderPass,
-                     VkSurfaceFormatKHR format, bool vsync, uint32_t slots)
-    : context_(context), surface_(surface), renderPass_(renderPass), format_(format) {
-  for (uint32_t i = 0; i < slots; ++i) imageAvailable_.push_back(createSemaphore(context.device()));
+Swapchain::Swapchain(const Device& device, VkSurfaceKHR surface, VkSurfaceFormatKHR format,
+                     bool vsync, uint32_t slots)
+    : device_(device), surface_(surface), format_(format) {
+  VkPhysicalDevice physical = device.handles().physicalDevice;
+  for (uint32_t i = 0; i < slots; ++i)
+    imageAvailable_.push_back(createSemaphore(device.handles().device));
   VkBool32 supported = VK_FALSE;
-  VK_CHECK(vkGetPhysicalDeviceSurfaceSupportKHR(context.physicalDevice(), context.queueFamily(),
-                                                surface, &supported));
+  HOST_CHECK(vkGetPhysicalDeviceSurfaceSupportKHR(physical, device.handles().queueFamily, surface,
+                                                  &supported));
   if (!supported) throw ResourceError("the chosen device cannot present to this window");
   if (!vsync) {
     uint32_t count = 0;
-    VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(context.physicalDevice(), surface, &count,
-                                                       nullptr));
+    HOST_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(physical, surface, &count, nullptr));
     std::vector<VkPresentModeKHR> modes(count);
-    VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(context.physicalDevice(), surface, &count,
-                                                       modes.data()));
+    HOST_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(physical, surface, &count, modes.data()));
     for (VkPresentModeKHR wanted : {VK_PRESENT_MODE_MAILBOX_KHR, VK_PRESENT_MODE_IMMEDIATE_KHR})
       if (std::find(modes.begin(), modes.end(), wanted) != modes.end()) {
         presentMode_ = wanted;
@@ -59,7 +55,7 @@ Swapchain::Swapchain(const Context& context, VkSurfaceKHR surface, VkRenderPass 
 
 Swapchain::~Swapchain() {
   destroyViews();
-  if (swapchain_) vkDestroySwapchainKHR(context_.device(), swapchain_, nullptr);
+  if (swapchain_) vkDestroySwapchainKHR(device_.handles().device, swapchain_, nullptr);
 }
 
 const char* Swapchain::name() const {
@@ -75,17 +71,17 @@ const char* Swapchain::name() const {
 
 void Swapchain::destroyViews() {
   renderFinished_.clear();
-  framebuffers_.clear();
   depth_ = {};
   views_.clear();
   images_.clear();
 }
 
 bool Swapchain::resize(VkExtent2D framebufferSize) {
-  VkDevice device = context_.device();
-  VK_CHECK(vkDeviceWaitIdle(device));
+  VkDevice device = device_.handles().device;
+  HOST_CHECK(vkDeviceWaitIdle(device));
   VkSurfaceCapabilitiesKHR caps;
-  VK_CHECK(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(context_.physicalDevice(), surface_, &caps));
+  HOST_CHECK(
+      vkGetPhysicalDeviceSurfaceCapabilitiesKHR(device_.handles().physicalDevice, surface_, &caps));
   VkExtent2D extent = caps.currentExtent;
   if (extent.width == UINT32_MAX) {
     extent.width =
@@ -104,11 +100,10 @@ bool Swapchain::resize(VkExtent2D framebufferSize) {
   info.imageColorSpace = format_.colorSpace;
   info.imageExtent = extent;
   info.imageArrayLayers = 1;
-  copyUsage_ = (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT) &&
-                       copyTargetUsage(context_, LineRenderer::kDepthFormat)
-                   ? VK_IMAGE_USAGE_TRANSFER_DST_BIT
-                   : 0;
-  info.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | copyUsage_;
+  copyable_ = (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT) &&
+              host::copyTargetUsage(device_, host::kDepthFormat);
+  info.imageUsage =
+      VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | (copyable_ ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : 0);
   info.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE;
   info.preTransform = caps.currentTransform;
   info.compositeAlpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
@@ -116,35 +111,42 @@ bool Swapchain::resize(VkExtent2D framebufferSize) {
   info.clipped = VK_TRUE;
   info.oldSwapchain = swapchain_;
   VkSwapchainKHR created = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateSwapchainKHR(device, &info, nullptr, &created));
+  HOST_CHECK(vkCreateSwapchainKHR(device, &info, nullptr, &created));
   destroyViews();
   if (swapchain_) vkDestroySwapchainKHR(device, swapchain_, nullptr);
   swapchain_ = created;
   extent_ = extent;
 
   uint32_t count = 0;
-  VK_CHECK(vkGetSwapchainImagesKHR(device, swapchain_, &count, nullptr));
+  HOST_CHECK(vkGetSwapchainImagesKHR(device, swapchain_, &count, nullptr));
   images_.resize(count);
-  VK_CHECK(vkGetSwapchainImagesKHR(device, swapchain_, &count, images_.data()));
-  depth_ = createImage(context_, extent, LineRenderer::kDepthFormat,
-                       VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | copyUsage_,
-                       VK_IMAGE_ASPECT_DEPTH_BIT);
+  HOST_CHECK(vkGetSwapchainImagesKHR(device, swapchain_, &count, images_.data()));
+  depth_ = host::createImage(device_, extent, host::kDepthFormat,
+                             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                                 (copyable_ ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : 0),
+                             VK_IMAGE_ASPECT_DEPTH_BIT);
   for (VkImage image : images_) {
-    views_.push_back(createImageView(device, image, format_.format, VK_IMAGE_ASPECT_COLOR_BIT));
-    framebuffers_.push_back(
-        createFramebuffer(device, renderPass_, views_.back(), depth_.view, extent));
+    views_.push_back(host::createView(device_, image, format_.format, VK_IMAGE_ASPECT_COLOR_BIT));
     renderFinished_.push_back(createSemaphore(device));
   }
   return true;
 }
 
-RenderTarget Swapchain::acquire(uint32_t slot) {
-  const VkResult acquired = vkAcquireNextImageKHR(
-      context_.device(), swapchain_, UINT64_MAX, imageAvailable_[slot], VK_NULL_HANDLE, &acquired_);
+host::FrameTarget Swapchain::acquire(uint32_t slot) {
+  const VkResult acquired =
+      vkAcquireNextImageKHR(device_.handles().device, swapchain_, UINT64_MAX, imageAvailable_[slot],
+                            VK_NULL_HANDLE, &acquired_);
   if (acquired == VK_ERROR_OUT_OF_DATE_KHR) return {};
-  if (acquired != VK_SUBOPTIMAL_KHR) VK_CHECK(acquired);
-  if (!copyUsage_) return {framebuffers_[acquired_], extent_};
-  return {framebuffers_[acquired_], extent_, images_[acquired_], depth_.image};
+  if (acquired != VK_SUBOPTIMAL_KHR) HOST_CHECK(acquired);
+  host::FrameTarget target;
+  target.color = images_[acquired_];
+  target.colorView = views_[acquired_];
+  target.depth = depth_.image;
+  target.depthView = depth_.view;
+  target.extent = extent_;
+  target.copyable = copyable_;
+  target.finalLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+  return target;
 }
 
 bool Swapchain::submitAndPresent(VkCommandBuffer commands, VkFence done, uint32_t slot) {
@@ -161,7 +163,7 @@ bool Swapchain::submitAndPresent(VkCommandBuffer commands, VkFence done, uint32_
   submit.pCommandBuffers = &commands;
   submit.signalSemaphoreCount = 1;
   submit.pSignalSemaphores = &signal;
-  VK_CHECK(vkQueueSubmit(context_.queue(), 1, &submit, done));
+  HOST_CHECK(vkQueueSubmit(device_.handles().queue, 1, &submit, done));
 
   VkPresentInfoKHR present{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
   present.waitSemaphoreCount = 1;
@@ -169,10 +171,10 @@ bool Swapchain::submitAndPresent(VkCommandBuffer commands, VkFence done, uint32_
   present.swapchainCount = 1;
   present.pSwapchains = &swapchain_;
   present.pImageIndices = &acquired_;
-  const VkResult presented = vkQueuePresentKHR(context_.queue(), &present);
+  const VkResult presented = vkQueuePresentKHR(device_.handles().queue, &present);
   if (presented == VK_ERROR_OUT_OF_DATE_KHR || presented == VK_SUBOPTIMAL_KHR) return false;
-  VK_CHECK(presented);
+  HOST_CHECK(presented);
   return true;
 }
 
-}  // namespace lava
+}  // namespace lava::window

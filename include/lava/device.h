@@ -1,0 +1,108 @@
+// The Vulkan device Lava works on: the host's own handles, borrowed (Lava never destroys
+// them), or an instance and device Lava creates itself (the `lava` program, tests).
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "export.h"
+
+namespace lava {
+
+namespace detail {
+struct DeviceContext;
+}
+
+// The host's handles. The device must have been created with what deviceRequirements()
+// lists. Lava records into command buffers of `queueFamily` and submits its blocking
+// helpers to `queue` (the host must not use that queue from another thread meanwhile).
+struct DeviceHandles {
+  VkInstance instance = VK_NULL_HANDLE;
+  VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  uint32_t queueFamily = 0;  // graphics and compute
+  VkQueue queue = VK_NULL_HANDLE;
+  // Optional: how Lava loads every Vulkan function (e.g. volk's); default: the loader's.
+  PFN_vkGetInstanceProcAddr getInstanceProcAddr = nullptr;
+  // Optional: passed to every create and destroy call Lava makes.
+  const VkAllocationCallbacks* allocator = nullptr;
+  // Optional: used for every pipeline Lava creates.
+  VkPipelineCache pipelineCache = VK_NULL_HANDLE;
+};
+
+// What a device must offer Lava: create it with these (vk-bootstrap or by hand).
+struct DeviceRequirements {
+  uint32_t apiVersion;                  // at least this Vulkan version
+  std::vector<const char*> extensions;  // device extensions to enable
+  bool dynamicRendering;                // VkPhysicalDeviceVulkan13Features::dynamicRendering
+                                        // (or VkPhysicalDeviceDynamicRenderingFeatures)
+};
+// For a physical device of Vulkan version `deviceApiVersion` (1.2 needs the dynamic
+// rendering extension, 1.3 has it in core).
+LAVA_API DeviceRequirements deviceRequirements(uint32_t deviceApiVersion = VK_API_VERSION_1_3);
+
+// How Lava creates a device of its own.
+struct DeviceOptions {
+  std::optional<unsigned> index;                // physical device index; else discrete, integrated,
+                                                // virtual GPU, then CPU, the first of the best kind
+  bool validation = false;                      // the Khronos validation layer with synchronization
+                                                // validation; messages via takeValidationMessages()
+  std::vector<const char*> instanceExtensions;  // required, e.g. a window system's
+  std::vector<const char*> deviceExtensions;    // enabled where the device offers them
+  std::string applicationName = "lava";
+};
+
+struct DeviceSummary {
+  unsigned index;
+  std::string name;
+  VkPhysicalDeviceType type;
+  uint32_t apiVersion;
+};
+
+class LAVA_API Device {
+ public:
+  // Creates an instance and a device (throws ResourceError when there is no driver, no
+  // device or no suitable queue; InvalidArgument "device" for an index not listed).
+  explicit Device(const DeviceOptions& options = {});
+  // Borrows the host's (throws ResourceError when the physical device cannot run Lava).
+  explicit Device(const DeviceHandles& borrowed);
+  ~Device();
+  Device(const Device&) = delete;
+  Device& operator=(const Device&) = delete;
+
+  const DeviceHandles& handles() const;
+  bool ownsHandles() const;
+  const VkPhysicalDeviceProperties& properties() const;
+  const VkPhysicalDeviceLimits& limits() const;
+  // "llvmpipe: Mesa 22.3.6 (LLVM 15.0.6)": the driver's name and version text.
+  std::string driver() const;
+  // The float controls Lava's shaders rely on, in words ("RTE rounding: yes, ...").
+  std::string floatControls() const;
+  // Whether Lava enabled `extension` (own device) or the device offers it (borrowed).
+  bool hasExtension(const char* extension) const;
+
+  VkDeviceSize deviceLocalBytes() const;    // the largest device-local heap
+  VkDeviceSize maxAllocationBytes() const;  // the largest single allocation
+  uint32_t particlesPerChunk() const;       // particles one buffer (binding, dispatch) holds
+  uint64_t maxParticles() const;            // the most particles a simulation may have here
+
+  // Own device: every device the instance listed, and the index of the one in use.
+  const std::vector<DeviceSummary>& candidates() const;
+  unsigned index() const;
+
+  // Validation messages (errors and warnings) since the last call; own device only.
+  std::vector<std::string> takeValidationMessages();
+  // Blocking: waits until the device is idle.
+  void waitIdle() const;
+
+  detail::DeviceContext& context() const { return *context_; }
+
+ private:
+  std::unique_ptr<detail::DeviceContext> context_;
+};
+
+}  // namespace lava

@@ -1,0 +1,91 @@
+// Drawing a GpuSimulation into the host's images: each alive particle is the line from x to
+// x + lineScale * v, read straight from the buffers the compute shader wrote. Pipelines are
+// built for formats (dynamic rendering), never for a host's render pass.
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <memory>
+
+#include "device.h"
+#include "export.h"
+#include "math.h"
+#include "scene.h"
+
+namespace lava {
+
+class GpuSimulation;
+
+// The host's attachments: a color format, and a depth format or VK_FORMAT_UNDEFINED.
+struct RenderFormats {
+  VkFormat color = VK_FORMAT_R8G8B8A8_UNORM;
+  VkFormat depth = VK_FORMAT_D32_SFLOAT;
+};
+
+// What is drawn from where, into a target of which size.
+struct View {
+  Mat4 viewProj;            // world (m) to Vulkan clip space (y down, depth 0..1)
+  VkExtent2D extent{0, 0};  // the target, in pixels: recordDraw sets viewport and scissor to it
+};
+
+// How lines reach the target: the graphics pipeline (one LINE_LIST primitive per particle,
+// the reference), or splat, a compute pass that walks each line in screen space and adds it
+// into a buffer the size of the target (faster on CPU devices for many particles).
+enum class LineMode { Lines, Splat };
+
+class LAVA_API LineRenderer {
+ public:
+  LineRenderer(Device& device, const RenderFormats& formats, uint32_t framesInFlight = 2);
+  ~LineRenderer();
+  LineRenderer(const LineRenderer&) = delete;
+  LineRenderer& operator=(const LineRenderer&) = delete;
+
+  void setMode(LineMode mode);
+  LineMode mode() const;
+  // Not a recording call: sizes the splat's per-frame buffers for targets of `extent`
+  // (allocates; call it before recording for a new size, when no frame using the old
+  // buffers is pending). recordPrepare() requires view.extent == the last setExtent().
+  void setExtent(VkExtent2D extent);
+
+  // Outside rendering, after the simulation's recordSimulate():
+  // a barrier from the particle writes (COMPUTE_SHADER / SHADER_WRITE) to this renderer's
+  // reads (VERTEX_SHADER and COMPUTE_SHADER / SHADER_READ); in splat mode, also frame
+  // slot `frame`'s splat pass (a fill, then compute), whose result is made visible to
+  // FRAGMENT_SHADER reads. Records only.
+  void recordPrepare(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
+                     const View& view);
+  // Inside the host's dynamic rendering scope (vkCmdBeginRendering) with the formats given
+  // at construction: draws the lines additively, depth-tested against the depth attachment
+  // (not written). Sets viewport, scissor, pipeline and push constants. Records only.
+  void recordDraw(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
+                  const View& view) const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// The ground plane (a 1 m grid, 24 m across) and the crater: the scene's first cone
+// collider, or a cone under emitter 0 when it has none. Opaque; writes depth.
+class LAVA_API Backdrop {
+ public:
+  Backdrop(Device& device, const RenderFormats& formats);
+  ~Backdrop();
+  Backdrop(const Backdrop&) = delete;
+  Backdrop& operator=(const Backdrop&) = delete;
+
+  // Inside dynamic rendering with the formats given at construction. Records only.
+  void recordDraw(VkCommandBuffer commands, const View& view, const Scene& scene) const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// Below this many particles the graphics pipeline draws faster than the splat on a CPU
+// device (lavapipe); from it on, the splat.
+constexpr uint64_t kSplatFrom = 16384;
+
+}  // namespace lava

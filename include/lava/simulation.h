@@ -1,0 +1,127 @@
+// The two backends behind one face: the GPU simulation (compute shaders, recorded into the
+// host's command buffers) and the CPU reference (plain float32 C++, the oracle). Given the
+// same Scene and State they compute the same bytes on a conforming driver.
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "device.h"
+#include "export.h"
+#include "scene.h"
+#include "state.h"
+
+namespace lava {
+
+// What both backends offer: blocking calls for tools, tests and scripts.
+class LAVA_API Simulation {
+ public:
+  virtual ~Simulation();
+  const Scene& scene() const { return scene_; }
+  // Replaces the parameters from the next step on; the emitters and their capacities must
+  // stay the same (InvalidArgument otherwise).
+  virtual void setScene(const Scene& scene);
+  // Blocking: runs `steps` steps.
+  virtual void advance(uint64_t steps) = 0;
+  // Blocking: the current state.
+  virtual State state() = 0;
+  // Blocking: replaces the state (checkState() first).
+  virtual void setState(const State& state) = 0;
+  // "gpu (llvmpipe ...)", "cpu reference, 2 threads".
+  virtual std::string name() const = 0;
+
+ protected:
+  explicit Simulation(const Scene& scene);
+  Scene scene_;
+};
+
+// The CPU reference, written apart from the shaders.
+class LAVA_API CpuSimulation final : public Simulation {
+ public:
+  // `threads` workers split the particles (1: the calling thread only, no thread created).
+  explicit CpuSimulation(const Scene& scene, unsigned threads = 1);
+  void advance(uint64_t steps) override;
+  State state() override { return state_; }
+  void setState(const State& state) override;
+  std::string name() const override;
+  unsigned threads() const { return threads_; }
+  // The state in place (no copy), valid until the next call that changes it.
+  const State& view() const { return state_; }
+
+ private:
+  State state_;
+  unsigned threads_;
+};
+
+struct GpuSimulationOptions {
+  uint32_t framesInFlight = 2;       // frame slots of update() / recordSimulate()
+  uint32_t maxStepsPerFrame = 2048;  // most steps one update() may plan
+  uint32_t stepsPerDispatch = 256;   // 1..256 steps fused per dispatch (1: memory-bound)
+};
+
+// Particles [first, first + count) of the state, in `buffer` from offset 0, 32 bytes each
+// (Particle), also viewed as RGBA32F texels (posAge, velMass per particle) by `texels`.
+struct ParticleChunk {
+  uint64_t first;
+  uint32_t count;
+  VkBuffer buffer;
+  VkBufferView texels;
+};
+
+// The compute-shader backend. A frame in a host application:
+//
+//   sim.update(frame, steps);            // CPU: plan the emission, stage the schedule
+//   sim.recordSimulate(cmd, frame);      // record the steps into the host's command buffer
+//   ... draw with LineRenderer, submit, present ...
+//
+// `frame` in [0, framesInFlight) names per-frame resources: update(frame) may be called
+// once the host's previous submission that used `frame` has finished.
+class LAVA_API GpuSimulation final : public Simulation {
+ public:
+  GpuSimulation(Device& device, const Scene& scene, const GpuSimulationOptions& options = {});
+  ~GpuSimulation() override;
+  GpuSimulation(const GpuSimulation&) = delete;
+  GpuSimulation& operator=(const GpuSimulation&) = delete;
+
+  // CPU side of a frame: advances the emission clocks by `steps` (0..maxStepsPerFrame) and
+  // writes their schedule and the scene's parameters into frame slot `frame`. Every
+  // update() must be followed by one recordSimulate(frame) that the host submits.
+  void update(uint32_t frame, uint32_t steps);
+  // Records the steps of the last update(frame), once: a second call before the next
+  // update(frame) records nothing (and nothing when it planned none).
+  // Before: a barrier after every earlier use of the particle buffers on the queue
+  // (writes by COMPUTE_SHADER or TRANSFER; reads by VERTEX_SHADER, FRAGMENT_SHADER,
+  // COMPUTE_SHADER or TRANSFER), so it may follow any Lava call and any such read.
+  // After: the particle buffers are written by VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT with
+  // VK_ACCESS_SHADER_WRITE_BIT; a reader needs a barrier from there (LineRenderer's
+  // recordPrepare() records it).
+  // Records only: no submission, wait or allocation.
+  void recordSimulate(VkCommandBuffer commands, uint32_t frame);
+
+  // Blocking helpers. They submit to the device's queue and wait for that submission;
+  // call them when no command buffer with this simulation's work is pending submission.
+  void advance(uint64_t steps) override;
+  // advance() that returns the GPU time the steps took (timestamp queries), in seconds.
+  double advanceTimed(uint64_t steps);
+  State state() override;
+  void setState(const State& state) override;
+  void setScene(const Scene& scene) override;
+  std::string name() const override;
+
+  const std::vector<ParticleChunk>& chunks() const;
+  const GpuSimulationOptions& options() const;
+  // The host's side of the state, without a read-back: each emitter's clock and the steps
+  // planned so far (by update() and the blocking helpers).
+  const std::vector<EmitterClock>& clocks() const;
+  uint64_t step() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace lava

@@ -1,0 +1,61 @@
+// One frame of the `lava` program as a paragraph: the simulation's draw preparation, the
+// ground and crater (drawn once per view into images of its own and copied into each frame
+// while the view repeats: two memcpys on a CPU device instead of shading every pixel), the
+// lines, an overlay (the demo's panel), then the target's final layout.
+#pragma once
+#include <functional>
+#include <vector>
+
+#include "lava/camera.h"
+#include "lava/renderer.h"
+#include "lava/simulation.h"
+#include "offscreen.h"
+
+namespace lava::host {
+
+class FrameRenderer {
+ public:
+  FrameRenderer(Device& device, VkFormat colorFormat, uint32_t framesInFlight);
+
+  LineRenderer& lines() { return lines_; }
+  // Records the frame into `target` (its color and depth images' previous contents are
+  // discarded). `overlay` records with the color image in COLOR_ATTACHMENT_OPTIMAL and must
+  // leave it there; it may begin a render pass of its own. A new target size waits for the
+  // device to be idle first (the renderer's per-size resources are rebuilt).
+  void record(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
+              const FrameTarget& target, const OrbitCamera& camera,
+              const std::function<void(VkCommandBuffer)>& overlay = {});
+  // Whether the last record() copied the cached ground instead of drawing it (for tests).
+  bool groundWasCopied() const { return groundCopied_; }
+
+ private:
+  struct GroundCache {
+    Image color, depth;
+    VkExtent2D extent{0, 0};
+    Mat4 viewProj;
+    std::vector<float> crater;
+    bool drawn = false;
+  };
+  void resize(VkExtent2D extent);
+  bool prepareGround(VkCommandBuffer commands, const FrameTarget& target, const View& view,
+                     const Scene& scene);
+  void beginRendering(VkCommandBuffer commands, VkImageView color, VkImageView depth,
+                      VkExtent2D extent, bool load) const;
+
+  Device& device_;
+  VkFormat colorFormat_;
+  Backdrop backdrop_;
+  LineRenderer lines_;
+  GroundCache cache_;
+  VkExtent2D extent_{0, 0};
+  bool groundCopied_ = false;
+  PFN_vkCmdBeginRendering cmdBeginRendering_;
+  PFN_vkCmdEndRendering cmdEndRendering_;
+};
+
+// The image of the scene drawn offscreen: its pixels once the frame finished.
+std::vector<uint8_t> renderOffscreen(const Submitter& submitter, FrameRenderer& renderer,
+                                     const GpuSimulation& simulation, const OffscreenTarget& target,
+                                     const OrbitCamera& camera);
+
+}  // namespace lava::host

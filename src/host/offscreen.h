@@ -1,0 +1,67 @@
+// A render target with no window: a color and a depth image, and a host-visible buffer the
+// color image is copied into for reading back; or, for MIT-SHM, a linear color image over
+// memory the caller owns, which the host reads in place.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "lava/device.h"
+#include "vulkan.h"
+
+namespace lava::host {
+
+// Where FrameRenderer draws one frame.
+struct FrameTarget {
+  VkImage color = VK_NULL_HANDLE;
+  VkImageView colorView = VK_NULL_HANDLE;
+  VkImage depth = VK_NULL_HANDLE;
+  VkImageView depthView = VK_NULL_HANDLE;
+  VkExtent2D extent{0, 0};
+  bool copyable = false;  // color and depth accept copies (the cached ground)
+  VkImageLayout finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;  // the color's, after
+};
+
+constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+
+class OffscreenTarget {
+ public:
+  static constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
+
+  OffscreenTarget(const Device& device, VkExtent2D extent, VkFormat color = kColorFormat);
+  // The color image lives in the caller's memory at `host` (VK_EXT_external_memory_host,
+  // aligned to hostImportAlignment(), hostBytes() long); the frame leaves it in GENERAL.
+  OffscreenTarget(const Device& device, VkExtent2D extent, VkFormat color, void* host);
+  // 0 when the device cannot import host memory (the extension was not enabled).
+  static VkDeviceSize hostImportAlignment(const Device& device);
+  static bool hostColorSupported(const Device& device, VkFormat color);
+  // The host memory such a target needs, or nothing when the device would pad its rows.
+  static std::optional<VkDeviceSize> hostBytes(const Device& device, VkExtent2D extent,
+                                               VkFormat color);
+
+  FrameTarget target() const;
+  VkExtent2D extent() const { return extent_; }
+  bool inHostMemory() const { return host_ != nullptr; }
+  // After the frame: copy the color image for the host (in host memory: only make the
+  // frame's writes visible to the host).
+  void recordReadback(VkCommandBuffer commands) const;
+  // Once the read-back was submitted and waited on: RGBA8 (or the format's) pixels, rows
+  // of extent().width, top row first.
+  std::vector<uint8_t> pixels() const;
+  const uint8_t* mappedPixels() const;
+
+ private:
+  const Device& device_;
+  VkExtent2D extent_;
+  VkFormat format_;
+  void* host_ = nullptr;
+  bool copyable_;
+  Image color_;
+  Image depth_;
+  OwnedBuffer readback_;
+  OwnedMemory readbackMemory_;
+  void* mapped_ = nullptr;
+  bool coherent_ = true;
+};
+
+}  // namespace lava::host

@@ -1,0 +1,148 @@
+#include "vulkan.h"
+
+#include <string>
+
+namespace lava::host {
+
+uint32_t memoryType(const Device& device, uint32_t typeBits, VkMemoryPropertyFlags required,
+                    VkMemoryPropertyFlags preferred) {
+  VkPhysicalDeviceMemoryProperties memory;
+  vkGetPhysicalDeviceMemoryProperties(device.handles().physicalDevice, &memory);
+  for (VkMemoryPropertyFlags wanted : {required | preferred, required})
+    for (uint32_t i = 0; i < memory.memoryTypeCount; ++i)
+      if ((typeBits & (1u << i)) && (memory.memoryTypes[i].propertyFlags & wanted) == wanted)
+        return i;
+  throw ResourceError("no Vulkan memory type with the needed properties on this device");
+}
+
+bool coherent(const Device& device, uint32_t type) {
+  VkPhysicalDeviceMemoryProperties memory;
+  vkGetPhysicalDeviceMemoryProperties(device.handles().physicalDevice, &memory);
+  return memory.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+}
+
+OwnedMemory allocate(const Device& device, VkDeviceSize size, uint32_t type, const void* next) {
+  VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  info.pNext = next;
+  info.allocationSize = size;
+  info.memoryTypeIndex = type;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  const VkResult result = vkAllocateMemory(device.handles().device, &info, nullptr, &memory);
+  if (result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY)
+    throw ResourceError("out of memory allocating " + std::to_string(size >> 20) +
+                        " MiB on the Vulkan device (" + resultName(result) + ")");
+  HOST_CHECK(result);
+  return OwnedMemory(device.handles().device, memory);
+}
+
+OwnedImageView createView(const Device& device, VkImage image, VkFormat format,
+                          VkImageAspectFlags aspect) {
+  VkImageViewCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  info.image = image;
+  info.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  info.format = format;
+  info.subresourceRange = {aspect, 0, 1, 0, 1};
+  VkImageView view = VK_NULL_HANDLE;
+  HOST_CHECK(vkCreateImageView(device.handles().device, &info, nullptr, &view));
+  return OwnedImageView(device.handles().device, view);
+}
+
+Image createImage(const Device& device, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage,
+                  VkImageAspectFlags aspect) {
+  VkDevice handle = device.handles().device;
+  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = format;
+  info.extent = {extent.width, extent.height, 1};
+  info.mipLevels = 1;
+  info.arrayLayers = 1;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = usage;
+  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  Image out;
+  VkImage image = VK_NULL_HANDLE;
+  HOST_CHECK(vkCreateImage(handle, &info, nullptr, &image));
+  out.image = OwnedImage(handle, image);
+  VkMemoryRequirements requirements;
+  vkGetImageMemoryRequirements(handle, image, &requirements);
+  out.memory = allocate(
+      device, requirements.size,
+      memoryType(device, requirements.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT));
+  HOST_CHECK(vkBindImageMemory(handle, image, out.memory, 0));
+  out.view = createView(device, image, format, aspect);
+  return out;
+}
+
+VkImageUsageFlags copyTargetUsage(const Device& device, VkFormat format) {
+  VkFormatProperties properties;
+  vkGetPhysicalDeviceFormatProperties(device.handles().physicalDevice, format, &properties);
+  return (properties.optimalTilingFeatures & VK_FORMAT_FEATURE_TRANSFER_DST_BIT)
+             ? VK_IMAGE_USAGE_TRANSFER_DST_BIT
+             : 0;
+}
+
+void imageBarrier(VkCommandBuffer commands, VkImage image, VkImageAspectFlags aspect,
+                  VkImageLayout from, VkImageLayout to, VkPipelineStageFlags srcStage,
+                  VkAccessFlags srcAccess, VkPipelineStageFlags dstStage, VkAccessFlags dstAccess) {
+  VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+  barrier.srcAccessMask = srcAccess;
+  barrier.dstAccessMask = dstAccess;
+  barrier.oldLayout = from;
+  barrier.newLayout = to;
+  barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.image = image;
+  barrier.subresourceRange = {aspect, 0, 1, 0, 1};
+  vkCmdPipelineBarrier(commands, srcStage, dstStage, 0, 0, nullptr, 0, nullptr, 1, &barrier);
+}
+
+void memoryBarrier(VkCommandBuffer commands, VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
+                   VkPipelineStageFlags dstStage, VkAccessFlags dstAccess) {
+  VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, srcAccess, dstAccess};
+  vkCmdPipelineBarrier(commands, srcStage, dstStage, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+}
+
+Submitter::Submitter(const Device& device) : device_(device) {
+  VkCommandPoolCreateInfo info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  info.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
+  info.queueFamilyIndex = device.handles().queueFamily;
+  VkCommandPool pool = VK_NULL_HANDLE;
+  HOST_CHECK(vkCreateCommandPool(device.handles().device, &info, nullptr, &pool));
+  pool_ = OwnedCommandPool(device.handles().device, pool);
+}
+
+VkCommandBuffer Submitter::begin() const {
+  VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  alloc.commandPool = pool_;
+  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  alloc.commandBufferCount = 1;
+  VkCommandBuffer commands = VK_NULL_HANDLE;
+  HOST_CHECK(vkAllocateCommandBuffers(device_.handles().device, &alloc, &commands));
+  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  HOST_CHECK(vkBeginCommandBuffer(commands, &begin));
+  return commands;
+}
+
+void Submitter::endAndWait(VkCommandBuffer commands) const {
+  VkDevice device = device_.handles().device;
+  struct Free {
+    VkDevice device;
+    VkCommandPool pool;
+    VkCommandBuffer commands;
+    ~Free() { vkFreeCommandBuffers(device, pool, 1, &commands); }
+  } free{device, pool_, commands};
+  HOST_CHECK(vkEndCommandBuffer(commands));
+  VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  VkFence raw = VK_NULL_HANDLE;
+  HOST_CHECK(vkCreateFence(device, &fenceInfo, nullptr, &raw));
+  const OwnedFence fence(device, raw);
+  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  submit.commandBufferCount = 1;
+  submit.pCommandBuffers = &commands;
+  HOST_CHECK(vkQueueSubmit(device_.handles().queue, 1, &submit, fence));
+  HOST_CHECK(vkWaitForFences(device, 1, &raw, VK_TRUE, UINT64_MAX));
+}
+
+}  // namespace lava::host

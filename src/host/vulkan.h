@@ -1,0 +1,111 @@
+// What the `lava` program needs of Vulkan beyond Lava's API, as any host application
+// would write it: checked calls, owned handles, device-local images, one-shot submissions.
+// It uses the Vulkan loader's functions and Lava's public headers only.
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <utility>
+
+#include "lava/device.h"
+#include "lava/error.h"
+
+#define HOST_CHECK(call)                                                 \
+  do {                                                                   \
+    const VkResult hostResult_ = (call);                                 \
+    if (hostResult_ != VK_SUCCESS)                                       \
+      throw ::lava::VulkanError(hostResult_, #call, __FILE__, __LINE__); \
+  } while (0)
+
+namespace lava::host {
+
+// One device-level handle, destroyed with `Destroy` (vkDestroy* or vkFreeMemory).
+template <typename T, void (*Destroy)(VkDevice, T, const VkAllocationCallbacks*)>
+class Owned {
+ public:
+  Owned() = default;
+  Owned(VkDevice device, T handle) : device_(device), handle_(handle) {}
+  Owned(Owned&& o) noexcept : device_(o.device_), handle_(std::exchange(o.handle_, T{})) {}
+  Owned& operator=(Owned&& o) noexcept {
+    if (this != &o) {
+      reset();
+      device_ = o.device_;
+      handle_ = std::exchange(o.handle_, T{});
+    }
+    return *this;
+  }
+  Owned(const Owned&) = delete;
+  Owned& operator=(const Owned&) = delete;
+  ~Owned() { reset(); }
+  T get() const { return handle_; }
+  operator T() const { return handle_; }  // NOLINT: used like the raw handle
+  void reset() {
+    if (handle_ != T{}) Destroy(device_, handle_, nullptr);
+    handle_ = T{};
+  }
+
+ private:
+  VkDevice device_ = VK_NULL_HANDLE;
+  T handle_{};
+};
+
+using OwnedImage = Owned<VkImage, vkDestroyImage>;
+using OwnedImageView = Owned<VkImageView, vkDestroyImageView>;
+using OwnedMemory = Owned<VkDeviceMemory, vkFreeMemory>;
+using OwnedBuffer = Owned<VkBuffer, vkDestroyBuffer>;
+using OwnedFence = Owned<VkFence, vkDestroyFence>;
+using OwnedSemaphore = Owned<VkSemaphore, vkDestroySemaphore>;
+using OwnedCommandPool = Owned<VkCommandPool, vkDestroyCommandPool>;
+using OwnedQueryPool = Owned<VkQueryPool, vkDestroyQueryPool>;
+using OwnedRenderPass = Owned<VkRenderPass, vkDestroyRenderPass>;
+using OwnedFramebuffer = Owned<VkFramebuffer, vkDestroyFramebuffer>;
+using OwnedDescriptorPool = Owned<VkDescriptorPool, vkDestroyDescriptorPool>;
+
+// A memory type of `device` among `typeBits` with `required`, one that also has
+// `preferred` if any does (ResourceError when none has `required`).
+uint32_t memoryType(const Device& device, uint32_t typeBits, VkMemoryPropertyFlags required,
+                    VkMemoryPropertyFlags preferred = 0);
+// Allocates `size` bytes of memory type `type`; out of memory is a ResourceError naming
+// the size.
+OwnedMemory allocate(const Device& device, VkDeviceSize size, uint32_t type,
+                     const void* next = nullptr);
+// Whether memory type `type` is host-coherent.
+bool coherent(const Device& device, uint32_t type);
+
+struct Image {
+  OwnedImage image;
+  OwnedMemory memory;
+  OwnedImageView view;
+};
+// A device-local 2D image (one mip, one layer, optimal tiling) and a view of `aspect`.
+Image createImage(const Device& device, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage,
+                  VkImageAspectFlags aspect);
+OwnedImageView createView(const Device& device, VkImage image, VkFormat format,
+                          VkImageAspectFlags aspect);
+// TRANSFER_DST when `format` accepts copies into optimal-tiling images on this device.
+VkImageUsageFlags copyTargetUsage(const Device& device, VkFormat format);
+
+void imageBarrier(VkCommandBuffer commands, VkImage image, VkImageAspectFlags aspect,
+                  VkImageLayout from, VkImageLayout to, VkPipelineStageFlags srcStage,
+                  VkAccessFlags srcAccess, VkPipelineStageFlags dstStage, VkAccessFlags dstAccess);
+void memoryBarrier(VkCommandBuffer commands, VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
+                   VkPipelineStageFlags dstStage, VkAccessFlags dstAccess);
+
+// One-time command buffers on the device's queue, each waited on.
+class Submitter {
+ public:
+  explicit Submitter(const Device& device);
+  template <typename Record>
+  void submitNow(Record&& record) const {
+    VkCommandBuffer commands = begin();
+    record(commands);
+    endAndWait(commands);
+  }
+
+ private:
+  VkCommandBuffer begin() const;
+  void endAndWait(VkCommandBuffer commands) const;
+  const Device& device_;
+  OwnedCommandPool pool_;
+};
+
+}  // namespace lava::host

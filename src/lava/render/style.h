@@ -1,0 +1,19 @@
+// What the drawing shaders get of a scene: the line style and the crater.
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <glm/glm.hpp>
+
+#include "lava/scene.h"
+#include "vulkan/device_context.h"
+
+namespace lava::detail {
+
+// x line scale s (s), y speed (m/s) at which a line is fully red, z age (s) at which it has
+// cooled to its darkest.
+glm::vec4 lineStyle(const Scene& scene);
+
+// Viewport and scissor covering `extent`.
+void setViewport(const DeviceContext& context, VkCommandBuffer commands, VkExtent2D extent);
+
+}  // namespace lava::detail

@@ -1,0 +1,126 @@
+// The scene's derived figures, its validation, and the names of its enums.
+#include <cmath>
+
+#include "keys.h"
+#include "lava/error.h"
+#include "lava/scene.h"
+
+namespace lava {
+
+uint64_t Scene::particles() const {
+  uint64_t total = 0;
+  for (const Emitter& e : emitters) total += e.particles;
+  return total;
+}
+
+uint64_t Scene::firstSlot(size_t emitter) const {
+  uint64_t first = 0;
+  for (size_t k = 0; k < emitter && k < emitters.size(); ++k) first += emitters[k].particles;
+  return first;
+}
+
+uint64_t Scene::stepsIn(double seconds) const {
+  return static_cast<uint64_t>(std::llround(seconds / double(h())));
+}
+
+namespace {
+
+void checkTable(const Scene& scene, KeyTable table, size_t count, const char* prefix) {
+  for (size_t i = 0; i < count; ++i)
+    for (const detail::KeyDef& d : detail::keyDefs(table))
+      d.check(scene, i, std::string(prefix) + "[" + std::to_string(i) + "]." + d.key.name);
+}
+
+void checkCount(size_t count, uint32_t most, const char* table) {
+  if (count > most)
+    throw InvalidArgument(table, "at most " + std::to_string(most) + " [[" + table +
+                                     "]] tables, got " + std::to_string(count));
+}
+
+}  // namespace
+
+void validate(const Scene& scene) {
+  for (const detail::KeyDef& d : detail::keyDefs(KeyTable::Top))
+    if (!d.emitterZero) d.check(scene, 0, d.key.name);
+  if (scene.emitters.empty())
+    throw InvalidArgument("emitter", "a scene needs at least one emitter");
+  checkCount(scene.emitters.size(), kMaxEmitters, "emitter");
+  checkCount(scene.forces.size(), kMaxForces, "force");
+  checkCount(scene.colliders.size(), kMaxColliders, "collider");
+  checkTable(scene, KeyTable::Emitter, scene.emitters.size(), "emitter");
+  checkTable(scene, KeyTable::Force, scene.forces.size(), "force");
+  checkTable(scene, KeyTable::Collider, scene.colliders.size(), "collider");
+  if (scene.particles() > (uint64_t{1} << 31))
+    throw InvalidArgument("particles", "the emitters hold " + std::to_string(scene.particles()) +
+                                           " slots together; at most 2^31");
+  for (size_t i = 0; i < scene.colliders.size(); ++i) {
+    const Collider& c = scene.colliders[i];
+    const std::string at = "collider[" + std::to_string(i) + "].";
+    if (c.type == ColliderType::Plane && c.normal == Vec3{})
+      throw InvalidArgument(at + "normal", "expected a non-zero vector, got 0,0,0");
+    if (c.type == ColliderType::Cone && c.topRadius > c.baseRadius)
+      throw InvalidArgument(at + "top-radius", "expected at most base-radius (" +
+                                                   detail::formatFloat(c.baseRadius) + "), got " +
+                                                   detail::formatFloat(c.topRadius));
+  }
+}
+
+size_t emitterOf(const Scene& scene, uint64_t slot) {
+  for (size_t k = 0; k < scene.emitters.size(); ++k) {
+    if (slot < scene.emitters[k].particles) return k;
+    slot -= scene.emitters[k].particles;
+  }
+  return scene.emitters.empty() ? 0 : scene.emitters.size() - 1;
+}
+
+const char* name(Shape shape) {
+  switch (shape) {
+    case Shape::Point:
+      return "point";
+    case Shape::Disc:
+      return "disc";
+    case Shape::Sphere:
+      return "sphere";
+    case Shape::Box:
+      return "box";
+  }
+  return "?";
+}
+
+const char* name(Integrator integrator) {
+  switch (integrator) {
+    case Integrator::ExplicitEuler:
+      return "explicit-euler";
+    case Integrator::SemiImplicitEuler:
+      return "semi-implicit-euler";
+    case Integrator::VelocityVerlet:
+      return "velocity-verlet";
+  }
+  return "?";
+}
+
+const char* name(ForceType type) {
+  switch (type) {
+    case ForceType::Attractor:
+      return "attractor";
+    case ForceType::Vortex:
+      return "vortex";
+  }
+  return "?";
+}
+
+const char* name(ColliderType type) {
+  switch (type) {
+    case ColliderType::Plane:
+      return "plane";
+    case ColliderType::Sphere:
+      return "sphere";
+    case ColliderType::Box:
+      return "box";
+    case ColliderType::Cone:
+      return "cone";
+  }
+  return "?";
+}
+
+}  // namespace lava

@@ -1,0 +1,180 @@
+// Scene files: TOML in (format 2 tables or the flat §2 keys), TOML out.
+// toml++ compiled into Lava (header-only mode): no run-time dependency for its users.
+#define TOML_HEADER_ONLY 1
+#include <toml++/toml.h>
+
+#include <sys/stat.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "keys.h"
+#include "lava/error.h"
+#include "lava/scene.h"
+
+namespace lava {
+namespace {
+
+using detail::findKey;
+using detail::keyList;
+
+std::string typeName(const toml::node& node) {
+  std::ostringstream type;
+  type << node.type();
+  return type.str();
+}
+
+// A TOML value as the text setSceneKey() reads: numbers exactly, arrays joined by commas.
+std::string valueText(const std::string& parameter, const toml::node& node) {
+  if (auto i = node.as_integer()) return std::to_string(i->get());
+  if (auto f = node.as_floating_point()) return detail::formatDouble(f->get());
+  if (auto s = node.as_string()) return s->get();
+  if (auto b = node.as_boolean()) return b->get() ? "true" : "false";
+  if (auto array = node.as_array()) {
+    std::string joined;
+    for (const toml::node& element : *array) {
+      if (element.is_array() || element.is_table())
+        throw InvalidArgument(parameter,
+                              "expected an array of numbers, got a nested " + typeName(element));
+      joined += (joined.empty() ? "" : ",") + valueText(parameter, element);
+    }
+    return joined;
+  }
+  throw InvalidArgument(parameter, "expected a value, got a TOML " + typeName(node));
+}
+
+// Booleans are not numbers: a key whose kind is not a name must not get one.
+std::string keyText(const std::string& parameter, const toml::node& node, KeyKind kind) {
+  if (node.is_boolean() && kind != KeyKind::Name)
+    throw InvalidArgument(parameter, "expected a number, got a TOML boolean");
+  if (node.is_string() && kind != KeyKind::Name)
+    throw InvalidArgument(parameter, "expected a number, got a TOML string");
+  if (kind == KeyKind::Vector && !node.is_array())
+    throw InvalidArgument(parameter, "expected an array of 3 numbers like [0, 1.5, 0]");
+  if (kind != KeyKind::Vector && node.is_array())
+    throw InvalidArgument(parameter, "expected one value, got an array");
+  if (kind == KeyKind::Name && !node.is_string())
+    throw InvalidArgument(parameter, "expected a name in quotes, got a TOML " + typeName(node));
+  return valueText(parameter, node);
+}
+
+// Reads the [[table]] entries `array` into rows `index` of the scene's list for `table`.
+void readTables(Scene& scene, const std::string& file, const char* prefix, KeyTable table,
+                const toml::array& array) {
+  for (size_t i = 0; i < array.size(); ++i) {
+    const std::string at = file + ": " + prefix + "[" + std::to_string(i) + "]";
+    const toml::table* entries = array[i].as_table();
+    if (!entries) throw InvalidArgument(at, "expected a table");
+    for (const auto& [key, node] : *entries) {
+      const std::string name(key.str()), parameter = at + "." + name;
+      const detail::KeyDef* def = findKey(table, name);
+      if (!def) throw InvalidArgument(parameter, "unknown key (accepted: " + keyList(table) + ")");
+      def->set(scene, i, parameter, keyText(parameter, node, def->key.kind));
+    }
+  }
+}
+
+}  // namespace
+
+Scene parseScene(const std::string& text, const std::string& file, const OtherKey& other) {
+  toml::table root;
+  try {
+    root = toml::parse(text, file);
+  } catch (const toml::parse_error& e) {
+    const auto& where = e.source().begin;
+    throw InvalidArgument(file, std::to_string(where.line) + ":" + std::to_string(where.column) +
+                                    ": not valid TOML (" + std::string(e.description()) + ")");
+  }
+  Scene scene;
+  const char* tables[] = {"emitter", "force", "collider"};
+  const uint32_t most[] = {kMaxEmitters, kMaxForces, kMaxColliders};
+  const KeyTable kinds[] = {KeyTable::Emitter, KeyTable::Force, KeyTable::Collider};
+  scene.forces.clear();
+  scene.colliders.clear();
+  bool emitterTables = false;
+  for (int t = 0; t < 3; ++t) {
+    const toml::node* node = root.get(tables[t]);
+    if (!node) continue;
+    // `emitter = [x, y, z]` is the flat files' emitter-0 position, not a table.
+    if (t == 0 && !node->is_array_of_tables() && !node->is_table()) continue;
+    const std::string parameter = file + ": " + tables[t];
+    const toml::array* array = node->as_array();
+    if (!array || !array->is_array_of_tables())
+      throw InvalidArgument(parameter, std::string("expected [[") + tables[t] + "]] tables");
+    if (array->size() > most[t])
+      throw InvalidArgument(parameter, "at most " + std::to_string(most[t]) + " [[" + tables[t] +
+                                           "]] tables, got " + std::to_string(array->size()));
+    if (t == 0) {
+      if (array->empty()) throw InvalidArgument(parameter, "a scene needs at least one emitter");
+      scene.emitters.assign(array->size(), Emitter{});
+      emitterTables = true;
+    } else if (t == 1) {
+      scene.forces.assign(array->size(), Force{});
+    } else {
+      scene.colliders.assign(array->size(), Collider{});
+    }
+    readTables(scene, file, tables[t], kinds[t], *array);
+  }
+
+  for (const auto& [key, node] : root) {
+    const std::string name(key.str()), parameter = file + ": " + name;
+    if ((name == "emitter" && emitterTables) || name == "force" || name == "collider") continue;
+    if (name == "format") {
+      const auto format = node.as_integer();
+      if (!format || (format->get() != 1 && format->get() != 2))
+        throw InvalidArgument(parameter, "expected 1 or 2");
+      continue;
+    }
+    const detail::KeyDef* def = findKey(KeyTable::Top, name);
+    if (!def) {
+      if (other && other(name, valueText(parameter, node))) continue;
+      throw InvalidArgument(parameter, "unknown key (accepted: format, " + keyList(KeyTable::Top) +
+                                           ", [[emitter]], [[force]], [[collider]])");
+    }
+    if (def->emitterZero && emitterTables)
+      throw InvalidArgument(parameter, "set it in an [[emitter]] table (this file has them)");
+    def->set(scene, 0, parameter, keyText(parameter, node, def->key.kind));
+  }
+  return scene;
+}
+
+Scene loadScene(const std::string& path, const OtherKey& other) {
+  struct stat info {};
+  if (path.empty() || stat(path.c_str(), &info) != 0)
+    throw InvalidArgument(path.empty() ? "scene" : path, "cannot read the scene file");
+  if (S_ISDIR(info.st_mode)) throw InvalidArgument(path, "is a folder, not a scene file");
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw InvalidArgument(path, "cannot read the scene file");
+  std::stringstream contents;
+  contents << file.rdbuf();
+  return parseScene(contents.str(), path, other);
+}
+
+std::string toToml(const Scene& scene) {
+  validate(scene);
+  std::ostringstream out;
+  auto line = [&out](const detail::KeyDef& d, const Scene& s, size_t i) {
+    const std::string text = d.text(s, i);
+    out << d.key.name << " = ";
+    if (d.key.kind == KeyKind::Vector)
+      out << "[" << text << "]\n";
+    else if (d.key.kind == KeyKind::Name)
+      out << "\"" << text << "\"\n";
+    else
+      out << text << "\n";
+  };
+  out << "format = 2\n";
+  for (const detail::KeyDef& d : detail::keyDefs(KeyTable::Top))
+    if (!d.emitterZero) line(d, scene, 0);
+  const std::pair<const char*, KeyTable> tables[] = {
+      {"emitter", KeyTable::Emitter}, {"force", KeyTable::Force}, {"collider", KeyTable::Collider}};
+  const size_t counts[] = {scene.emitters.size(), scene.forces.size(), scene.colliders.size()};
+  for (int t = 0; t < 3; ++t)
+    for (size_t i = 0; i < counts[t]; ++i) {
+      out << "\n[[" << tables[t].first << "]]\n";
+      for (const detail::KeyDef& d : detail::keyDefs(tables[t].second)) line(d, scene, i);
+    }
+  return out.str();
+}
+
+}  // namespace lava

@@ -1,0 +1,56 @@
+// A VkBuffer with memory of its own: device-local for particles, host-visible and mapped
+// for uploads (the schedule, the scene) and read-backs (cached where the device has it).
+#pragma once
+#include "device_context.h"
+#include "unique.h"
+
+namespace lava::detail {
+
+enum class MemoryUse {
+  Device,    // device-local, not mapped
+  Upload,    // host-visible, mapped; the host writes, the device reads
+  Readback,  // host-visible, mapped, cached where offered; the device writes, the host reads
+};
+
+class Buffer {
+ public:
+  Buffer() = default;
+  Buffer(const DeviceContext& context, VkDeviceSize size, VkBufferUsageFlags usage, MemoryUse use);
+  Buffer(Buffer&&) = default;
+  Buffer& operator=(Buffer&&) = default;
+
+  VkBuffer get() const { return buffer_; }
+  VkDeviceSize size() const { return size_; }
+  void* mapped() const { return mapped_; }  // null for MemoryUse::Device
+  // After host writes / before host reads of mapped memory that is not coherent.
+  void flush() const;
+  void invalidate() const;
+
+ private:
+  const DeviceContext* context_ = nullptr;
+  VkDeviceSize size_ = 0;
+  bool coherent_ = true;
+  UniqueBuffer buffer_;
+  UniqueMemory memory_;
+  void* mapped_ = nullptr;
+};
+
+// A device-local 2D image, one mip and layer, with a view of `aspect`.
+struct Image {
+  UniqueImage image;
+  UniqueMemory memory;
+  UniqueImageView view;
+  VkExtent2D extent{0, 0};
+  VkFormat format = VK_FORMAT_UNDEFINED;
+};
+Image createImage(const DeviceContext& context, VkExtent2D extent, VkFormat format,
+                  VkImageUsageFlags usage, VkImageAspectFlags aspect);
+
+// Allocates `size` bytes of memory type `type` (throws ResourceError, naming the size,
+// when the device is out of memory).
+UniqueMemory allocateMemory(const DeviceContext& context, VkDeviceSize size, uint32_t type);
+
+// A view of `range` bytes of `buffer` as RGBA32F texels (a uniform texel buffer).
+UniqueBufferView createTexelView(const DeviceContext& context, VkBuffer buffer, VkDeviceSize range);
+
+}  // namespace lava::detail

@@ -1,0 +1,11 @@
+// VK_CHECK: every failing VkResult becomes a lava::VulkanError naming the call, the result
+// and file:line, in every build type.
+#pragma once
+#include "lava/error.h"
+
+#define VK_CHECK(call)                                                   \
+  do {                                                                   \
+    const VkResult lavaResult_ = (call);                                 \
+    if (lavaResult_ != VK_SUCCESS)                                       \
+      throw ::lava::VulkanError(lavaResult_, #call, __FILE__, __LINE__); \
+  } while (0)

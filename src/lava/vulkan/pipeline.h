@@ -1,0 +1,44 @@
+// Pipelines from embedded SPIR-V: compute pipelines with specialization constants, and
+// graphics pipelines for dynamic rendering (built for formats, never for a render pass).
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "device_context.h"
+#include "unique.h"
+
+namespace lava::detail {
+
+struct Spirv {
+  const uint32_t* code;
+  size_t bytes;
+};
+#define LAVA_SPIRV(array) \
+  ::lava::detail::Spirv { \
+    array, sizeof(array)  \
+  }
+
+// Specialization constants 0, 1, 2, ... take these values (constant 0: the workgroup size
+// of every compute shader).
+using Constants = std::vector<uint32_t>;
+
+UniquePipeline createComputePipeline(const DeviceContext& context, VkPipelineLayout layout,
+                                     Spirv shader, const Constants& constants);
+
+struct GraphicsPipelineDesc {
+  Spirv vert;
+  Spirv frag;
+  VkFormat colorFormat;
+  VkFormat depthFormat = VK_FORMAT_UNDEFINED;  // none: no depth test or write
+  VkPrimitiveTopology topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+  bool additive = false;  // blend ONE + ONE onto the target
+  bool depthTest = true;
+  bool depthWrite = true;
+};
+
+// No vertex input; dynamic viewport and scissor.
+UniquePipeline createGraphicsPipeline(const DeviceContext& context, VkPipelineLayout layout,
+                                      const GraphicsPipelineDesc& desc);
+
+}  // namespace lava::detail

@@ -1,0 +1,16 @@
+// Every shader Lava embeds: SPIR-V compiled from shaders/*.{comp,vert,frag} at build time,
+// as arrays in this namespace (nothing is loaded by path at run time).
+#pragma once
+#include <cstdint>
+
+namespace lava::spirv {
+#include "copy_comp.h"
+#include "ground_frag.h"
+#include "ground_vert.h"
+#include "lines_frag.h"
+#include "lines_vert.h"
+#include "resolve_frag.h"
+#include "resolve_vert.h"
+#include "splat_comp.h"
+#include "step_comp.h"
+}  // namespace lava::spirv

@@ -1,0 +1,110 @@
+// Move-only owner of one device-level Vulkan handle, destroyed through the device's
+// function table with the host's allocation callbacks.
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <utility>
+
+#include "device_context.h"
+
+namespace lava::detail {
+
+static_assert(sizeof(void*) == 8, "handle types must be distinct (64-bit Vulkan)");
+
+template <typename T>
+using DestroyFn = void(VKAPI_PTR*)(VkDevice, T, const VkAllocationCallbacks*);
+
+inline DestroyFn<VkBuffer> destroyFn(const Vk& vk, VkBuffer) {
+  return vk.DestroyBuffer;
+}
+inline DestroyFn<VkBufferView> destroyFn(const Vk& vk, VkBufferView) {
+  return vk.DestroyBufferView;
+}
+inline DestroyFn<VkDeviceMemory> destroyFn(const Vk& vk, VkDeviceMemory) {
+  return vk.FreeMemory;
+}
+inline DestroyFn<VkImage> destroyFn(const Vk& vk, VkImage) {
+  return vk.DestroyImage;
+}
+inline DestroyFn<VkImageView> destroyFn(const Vk& vk, VkImageView) {
+  return vk.DestroyImageView;
+}
+inline DestroyFn<VkSampler> destroyFn(const Vk& vk, VkSampler) {
+  return vk.DestroySampler;
+}
+inline DestroyFn<VkShaderModule> destroyFn(const Vk& vk, VkShaderModule) {
+  return vk.DestroyShaderModule;
+}
+inline DestroyFn<VkDescriptorSetLayout> destroyFn(const Vk& vk, VkDescriptorSetLayout) {
+  return vk.DestroyDescriptorSetLayout;
+}
+inline DestroyFn<VkPipelineLayout> destroyFn(const Vk& vk, VkPipelineLayout) {
+  return vk.DestroyPipelineLayout;
+}
+inline DestroyFn<VkPipeline> destroyFn(const Vk& vk, VkPipeline) {
+  return vk.DestroyPipeline;
+}
+inline DestroyFn<VkCommandPool> destroyFn(const Vk& vk, VkCommandPool) {
+  return vk.DestroyCommandPool;
+}
+inline DestroyFn<VkFence> destroyFn(const Vk& vk, VkFence) {
+  return vk.DestroyFence;
+}
+inline DestroyFn<VkQueryPool> destroyFn(const Vk& vk, VkQueryPool) {
+  return vk.DestroyQueryPool;
+}
+
+template <typename T>
+class Unique {
+ public:
+  Unique() = default;
+  Unique(const DeviceContext& context, T handle)
+      : device_(context.handles.device),
+        allocator_(context.handles.allocator),
+        destroy_(destroyFn(context.vk, T{})),
+        handle_(handle) {}
+  Unique(Unique&& other) noexcept { *this = std::move(other); }
+  Unique& operator=(Unique&& other) noexcept {
+    if (this != &other) {
+      reset();
+      device_ = other.device_;
+      allocator_ = other.allocator_;
+      destroy_ = other.destroy_;
+      handle_ = std::exchange(other.handle_, T{});
+    }
+    return *this;
+  }
+  Unique(const Unique&) = delete;
+  Unique& operator=(const Unique&) = delete;
+  ~Unique() { reset(); }
+
+  T get() const { return handle_; }
+  operator T() const { return handle_; }  // NOLINT: used like the raw handle
+
+  void reset() {
+    if (handle_ != T{}) destroy_(device_, handle_, allocator_);
+    handle_ = T{};
+  }
+
+ private:
+  VkDevice device_ = VK_NULL_HANDLE;
+  const VkAllocationCallbacks* allocator_ = nullptr;
+  DestroyFn<T> destroy_ = nullptr;
+  T handle_{};
+};
+
+using UniqueBuffer = Unique<VkBuffer>;
+using UniqueBufferView = Unique<VkBufferView>;
+using UniqueMemory = Unique<VkDeviceMemory>;
+using UniqueImage = Unique<VkImage>;
+using UniqueImageView = Unique<VkImageView>;
+using UniqueSampler = Unique<VkSampler>;
+using UniqueShaderModule = Unique<VkShaderModule>;
+using UniqueDescriptorSetLayout = Unique<VkDescriptorSetLayout>;
+using UniquePipelineLayout = Unique<VkPipelineLayout>;
+using UniquePipeline = Unique<VkPipeline>;
+using UniqueCommandPool = Unique<VkCommandPool>;
+using UniqueFence = Unique<VkFence>;
+using UniqueQueryPool = Unique<VkQueryPool>;
+
+}  // namespace lava::detail
