@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# SPEC §7 on a fresh prefix: `cmake --install` of this build; its include/ holds only lava/;
+# every symbol of the library is lava's or a dependency's; examples/embed and
+# examples/headless configure, build and run against it with find_package(Lava); the
+# headless example also builds as one file with `pkg-config --cflags --libs lava`. The
+# examples run on the pinned driver with the validation layer (embed fails on a message).
+set -euo pipefail
+build=$1
+source=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+prefix=$work/prefix
+
+cmake --install "$build" --prefix "$prefix" >/dev/null
+extra=$(find "$prefix/include" -mindepth 1 -maxdepth 1 ! -name lava)
+[ -z "$extra" ] || { echo "FAIL: include/ holds more than lava/: $extra"; exit 1; }
+[ -f "$prefix/include/lava/lava.h" ] || { echo "FAIL: no lava/lava.h"; exit 1; }
+[ -f "$prefix/lib/cmake/Lava/LavaConfigVersion.cmake" ] || { echo "FAIL: no version file"; exit 1; }
+library=$(readlink -f "$prefix/lib/liblava.so")
+readelf -d "$library" | grep -q 'SONAME.*liblava.so.0' || { echo "FAIL: no SONAME"; exit 1; }
+/usr/bin/python3 "$source/tests/check_symbols.py" "$library"
+
+for example in embed headless; do
+  cmake -S "$source/examples/$example" -B "$work/$example" -DCMAKE_PREFIX_PATH="$prefix" \
+        -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$work/$example" -j2 >/dev/null
+  out=$("$work/$example/lava_$example")
+  echo "$out"
+done
+echo "$out" | grep -q "bit-identical" || { echo "FAIL: headless did not compare"; exit 1; }
+
+# One file and pkg-config, as a Makefile would do it.
+export PKG_CONFIG_PATH=$prefix/lib/pkgconfig
+flags=$(pkg-config --cflags --libs lava)
+c++ "$source/examples/headless/headless.cpp" $flags -Wl,-rpath,"$prefix/lib" -o "$work/one-file"
+"$work/one-file"
+echo "PASS"
