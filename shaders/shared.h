@@ -15,13 +15,15 @@ using vec4 = glm::vec4;
 using uvec4 = glm::uvec4;
 using mat4 = glm::mat4;
 #define LAVA_FN inline
+#define LAVA_PRECISE
 #else
 #define LAVA_FN
+#define LAVA_PRECISE precise
 #endif
 
 // Invocations per compute workgroup of every compute shader.
 const uint kWorkgroupSize = 64u;
-// Particles one step.comp invocation advances, interleaved (its main() spells out four).
+// Particles one step.comp invocation advances, interleaved: its main() is written for four.
 const uint kParticlesPerInvocation = 4u;
 // Descriptor bindings of the simulation and drawing pipelines.
 const uint kParticleBinding = 0u;
@@ -29,6 +31,7 @@ const uint kScheduleBinding = 1u;
 // The same particles read as RGBA32F texels (posAge, velMass): on llvmpipe a texel fetch
 // is a branch-free gather, a storage-buffer load a bounds-checked loop over the lanes.
 const uint kParticleTexelBinding = 2u;
+const uint kSceneBinding = 3u;  // SceneParams, one copy per frame slot
 // Bindings of splat.comp (particles as texels, the sums), resolve.frag and copy.comp.
 const uint kSplatParticleBinding = 0u;
 const uint kSplatSumsBinding = 1u;
@@ -38,14 +41,50 @@ const uint kCopyDestinationBinding = 1u;
 // ground.vert: the plane's two triangles, then the crater cone's side quads.
 const uint kCraterSides = 48u;
 const uint kGroundVertices = 6u + 6u * kCraterSides;
-// Random-stream components drawn per emitted particle: 3 for velocity, then disc tries.
+
+// Specialization constants of step.comp (0 is the workgroup size): which modules the
+// scene uses, so that the default scene pays for none of the others.
+const uint kIntegratorConstant = 1u;  // kExplicitEuler ...
+const uint kEmittersConstant = 2u;    // 1..kMaxEmitters
+const uint kForcesConstant = 3u;      // 0..kMaxForces
+const uint kCollidersConstant = 4u;   // 0..kMaxColliders
+const uint kLifetimesConstant = 5u;   // 1 when some emitter has a lifetime
+
+const uint kMaxEmitters = 16u;
+const uint kMaxForces = 16u;
+const uint kMaxColliders = 16u;
+// The values of lava::Shape, Integrator, ForceType and ColliderType.
+const uint kShapePoint = 0u;
+const uint kShapeDisc = 1u;
+const uint kShapeSphere = 2u;
+const uint kShapeBox = 3u;
+const uint kExplicitEuler = 0u;
+const uint kSemiImplicitEuler = 1u;
+const uint kVelocityVerlet = 2u;
+const uint kAttractor = 0u;
+const uint kVortex = 1u;
+const uint kPlane = 0u;
+const uint kSphere = 1u;
+const uint kBox = 2u;
+const uint kCone = 3u;
+
+// Random-stream components drawn per emitted particle: 3 for velocity, then the shape's.
 const uint kVelocityComponents = 3u;
-// Rejection-sampling tries for the emitter disc; all failing has odds (1-pi/4)^16 < 2e-11
-// and places the particle at the centre. Rejection keeps sin/cos/sqrt (not bit-exact
-// across drivers) out of the emission.
+// Rejection-sampling tries for the disc (2 draws each) and the sphere (3 each): all
+// failing has odds below 2e-11 (disc) and 1e-10 (sphere) and places the particle at the
+// centre. Rejection keeps sin/cos/sqrt (not exact across drivers) out of the emission.
 const uint kDiscTries = 16u;
-// Tangential speed (m/s) below which a bouncing particle's x or z velocity becomes 0.
+const uint kSphereTries = 32u;
+// Tangential speed (m/s) below which a bounce's tangential velocity becomes 0 (static
+// friction).
 const float kRestSpeed = 1e-4f;
+// Velocity components below this (2^-24 m/s) become +0 after emission, the integrator and
+// each collider response: no denormal ever enters the state.
+const float kTinySpeed = 5.9604644775390625e-8;
+// Below this squared distance from its axis a point counts as on a cone's axis.
+const float kAxisSquared = 1e-30f;
+// The bit pattern whose halving subtraction starts the cone's 1/sqrt (then Newton steps).
+const uint kRsqrtMagic = 0x5f3759dfu;
 
 // One particle, 32 bytes in std430. Unborn slots have posAge.w < 0. C++ names the same
 // floats px py pz age vx vy vz mass (lava::Particle).
@@ -53,26 +92,57 @@ const float kRestSpeed = 1e-4f;
 using Particle = ::lava::Particle;
 #else
 struct Particle {
-  vec4 posAge;   // xyz position (m), w age since emission (s); < 0: never emitted
+  vec4 posAge;   // xyz position (m), w age since emission (s); < 0: not alive
   vec4 velMass;  // xyz velocity (m/s), w mass (kg)
 };
 #endif
 
-// One step's emission, written by the host (ring-buffer bookkeeping stays on the host).
+// One step's births of one emitter, written by the host (ring bookkeeping stays there).
 struct EmitEntry {
-  uvec4 ring;  // x first slot (head), y slots born this step, z serial low, w serial high
-  uvec4 sums;  // x particles emitted before this step since the plan began (mod 2^32)
+  uvec4 ring;  // x first slot born (in the emitter's ring), y slots born, z serial low, w high
+  uvec4 sums;  // x births before this step since the dispatch's first step (mod 2^32)
 };
 
-// Push constants of step.comp: the scene plus which steps and particles to run.
+// An emitter and the constants the host derives from it (float32, SPEC §6).
+struct EmitterParams {
+  vec4 position;   // xyz centre (m), w radius (m)
+  vec4 velocity;   // xyz mean launch velocity (m/s), w mass (kg)
+  vec4 spread;     // xyz launch velocity spread (m/s), w lifetime (s; 0: none)
+  vec4 size;       // xyz box half-extents (m), w hm = h / m
+  vec4 constants;  // x hh = (0.5 h) hm, y hk = 0.5 hm, z w = wind.y - m g (N), w unused
+  uvec4 ring;      // x shape, y seed + k, z capacity, w first slot of the ring in the state
+};
+
+struct ForceParams {
+  vec4 position;  // xyz point (m), w strength k
+  vec4 axis;      // xyz vortex axis, w attractor radius^2 (m^2)
+  uvec4 kind;     // x kAttractor or kVortex, y 1 when the attractor acts everywhere
+};
+
+struct ColliderParams {
+  vec4 position;  // xyz plane point, sphere or box centre, cone base centre (m)
+  vec4 shape;     // plane: xyz unit normal; sphere: x radius, y radius^2; box: xyz
+                  // half-extents; cone: x base radius, y (top - base) / height, z height
+  vec4 cone;      // cone: x, y the side normal's radial and vertical parts, z the cap's y
+                  // (base + height + margin), w margin (m)
+  vec4 material;  // x restitution, y friction
+  uvec4 kind;     // x kPlane, kSphere, kBox or kCone
+};
+
+// The scene as step.comp reads it (a uniform buffer; every member a vec4 multiple, so
+// std140 and C++ agree).
+struct SceneParams {
+  vec4 world;  // x h (s), y ground restitution, z ground friction, w drag (N s/m)
+  vec4 wind;   // xyz wind (N), w unused
+  EmitterParams emitters[kMaxEmitters];
+  ForceParams forces[kMaxForces];
+  ColliderParams colliders[kMaxColliders];
+};
+
+// Push constants of step.comp: which steps and which particles one dispatch runs.
 struct StepParams {
-  vec4 emitter;   // xyz emitter centre (m), w disc radius (m)
-  vec4 velocity;  // xyz mean launch velocity (m/s), w step size h (s)
-  vec4 spread;    // xyz launch velocity spread (m/s), w gravity g (m/s^2)
-  vec4 wind;      // xyz wind force (N), w linear drag (N s/m)
-  vec4 material;  // x restitution, y tangential retention, z mass (kg), w unused
-  uvec4 run;      // x seed, y capacity, z first schedule entry, w steps in this dispatch
-  uvec4 chunk;    // x first particle of the bound range, y particles in it
+  uvec4 run;    // x first schedule entry, y steps, z entries per emitter in the schedule
+  uvec4 chunk;  // x first particle (state index) of the bound chunk, y particles in it
 };
 
 // Push constants of lines.vert / ground.vert: camera and line style.
@@ -110,7 +180,8 @@ LAVA_FN uint randomBits(uint seed, uint serialLo, uint serialHi, uint component)
 
 // Uniform in [-1, 1) on a 2^-23 grid; every operation is exact in float32.
 LAVA_FN float signedUnit(uint bits) {
-  return float(int(bits >> 8u) - 8388608) * (1.0f / 8388608.0f);
+  LAVA_PRECISE float u = float(int(bits >> 8u) - 8388608) * (1.0f / 8388608.0f);
+  return u;
 }
 
 #ifdef __cplusplus
@@ -118,11 +189,16 @@ static_assert(sizeof(Particle) == 32 && offsetof(Particle, age) == 12 &&
                   offsetof(Particle, vx) == 16 && offsetof(Particle, mass) == 28,
               "Particle must match std430 (posAge, velMass)");
 static_assert(sizeof(EmitEntry) == 32, "EmitEntry must match std430 (two uvec4)");
-static_assert(sizeof(StepParams) == 112, "StepParams must fit 128 bytes of push constants");
-static_assert(offsetof(StepParams, run) == 80, "StepParams members must stay vec4-aligned");
+static_assert(sizeof(EmitterParams) == 96 && sizeof(ForceParams) == 48 &&
+                  sizeof(ColliderParams) == 80,
+              "scene parameters are whole vec4s (std140 array strides)");
+static_assert(sizeof(SceneParams) == 32 + 16 * (96 + 48 + 80), "SceneParams as std140 lays it out");
+static_assert(offsetof(SceneParams, forces) == 32 + 16 * 96, "SceneParams members stay vec4s");
+static_assert(sizeof(StepParams) == 32, "StepParams fits any push-constant budget");
 static_assert(sizeof(DrawParams) == 96, "DrawParams must fit 128 bytes of push constants");
 static_assert(sizeof(SplatParams) == 96, "SplatParams must fit 128 bytes of push constants");
 }  // namespace lava::gpu
 #endif
 #undef LAVA_FN
+#undef LAVA_PRECISE
 #endif

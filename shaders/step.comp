@@ -1,11 +1,31 @@
 #version 460
-// One dispatch advances every particle of the bound range by run.w steps of SPEC §2:
-// emit (from the host's ring schedule), explicit Euler, ground impulse. Particles are
-// independent, so each invocation keeps its particle in registers across the steps.
+// One dispatch advances every particle of the bound chunk by run.y steps of SPEC §6:
+// emission (from the host's per-emitter ring schedule), forces, the integrator, the ground,
+// the colliders, lifetimes. Particles are independent, so each invocation keeps its
+// particles in registers across the steps.
+//
+// Exactness: every float variable of the state path is `precise` (its operations carry
+// NoContraction: no FMA, no reassociation), dot products and cross products are written out
+// in the order SPEC §6 gives, quotients and products of scene constants come from the host,
+// and the only square root and division are the sphere collider's. The execution modes ask
+// for IEEE round-to-nearest-even and preserved signed zeros where the device offers them.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_spirv_intrinsics : require
 #include "shared.h"
 
+#if LAVA_SIGNED_ZERO
+spirv_execution_mode(capabilities = [4466], 4461, 32);  // SignedZeroInfNanPreserve 32
+#endif
+#if LAVA_RTE
+spirv_execution_mode(capabilities = [4467], 4462, 32);  // RoundingModeRTE 32
+#endif
+
 layout(local_size_x_id = 0) in;
+layout(constant_id = kIntegratorConstant) const uint kIntegrator = kExplicitEuler;
+layout(constant_id = kEmittersConstant) const uint kEmitters = 1u;
+layout(constant_id = kForcesConstant) const uint kForces = 0u;
+layout(constant_id = kCollidersConstant) const uint kColliders = 0u;
+layout(constant_id = kLifetimesConstant) const uint kLifetimes = 0u;
 
 layout(std430, binding = kParticleBinding) writeonly buffer Particles {
   Particle particles[];
@@ -14,68 +34,290 @@ layout(binding = kParticleTexelBinding) uniform samplerBuffer particleTexels;  /
 layout(std430, binding = kScheduleBinding) restrict readonly buffer Schedule {
   EmitEntry schedule[];
 };
+layout(std140, binding = kSceneBinding) uniform Scene {
+  SceneParams scene;
+};
 layout(push_constant) uniform Push {
   StepParams p;
 };
 
-// Every float operation below is `precise`: no contraction into FMA, no reassociation,
-// so the result is the IEEE float32 sequence the CPU reference computes.
-void emit(uint serialLo, uint serialHi, inout vec3 x, inout vec3 v) {
-  precise vec3 u;
-  u.x = signedUnit(randomBits(p.run.x, serialLo, serialHi, 0u));
-  u.y = signedUnit(randomBits(p.run.x, serialLo, serialHi, 1u));
-  u.z = signedUnit(randomBits(p.run.x, serialLo, serialHi, 2u));
-  precise float dx = 0.0;
-  precise float dz = 0.0;
-  for (uint t = 0u; t < kDiscTries; ++t) {
-    precise float a = signedUnit(randomBits(p.run.x, serialLo, serialHi, kVelocityComponents + 2u * t));
-    precise float b = signedUnit(randomBits(p.run.x, serialLo, serialHi, kVelocityComponents + 2u * t + 1u));
-    precise float r2 = a * a + b * b;
-    if (r2 <= 1.0) {
-      dx = a;
-      dz = b;
-      break;
+// What every particle's steps need of the scene, read once per dispatch.
+struct World {
+  float h;            // step (s)
+  float drag;         // N s/m
+  float restitution;  // the ground's
+  float friction;
+  vec3 wind;          // N
+};
+
+// What a particle's steps need of its emitter, read once per dispatch.
+struct Model {
+  float hm;        // h / m
+  float hh;        // (0.5 h) hm
+  float hk;        // 0.5 hm
+  float w;         // wind.y - m g
+  float lifetime;  // s; 0: none
+};
+
+Model model(uint k) {
+  const EmitterParams e = scene.emitters[k];
+  return Model(e.size.w, e.constants.x, e.constants.y, e.constants.z, e.spread.w);
+}
+
+// |v_i| < 2^-24 becomes +0: denormals never enter the state.
+void flush(inout precise vec3 v) {
+  v.x = abs(v.x) < kTinySpeed ? 0.0 : v.x;
+  v.y = abs(v.y) < kTinySpeed ? 0.0 : v.y;
+  v.z = abs(v.z) < kTinySpeed ? 0.0 : v.z;
+}
+
+// Emission: the particle of emitter k with this serial.
+void emit(uint k, uint lo, uint hi, out precise vec3 x, out precise vec3 v) {
+  const EmitterParams e = scene.emitters[k];
+  const uint seed = e.ring.y;
+  precise vec3 u = vec3(signedUnit(randomBits(seed, lo, hi, 0u)),
+                        signedUnit(randomBits(seed, lo, hi, 1u)),
+                        signedUnit(randomBits(seed, lo, hi, 2u)));
+  precise vec3 o = vec3(0.0);
+  const uint shape = e.ring.x;
+  precise float r = e.position.w;
+  if (shape == kShapeDisc) {
+    precise float a = 0.0, b = 0.0;
+    for (uint t = 0u; t < kDiscTries; ++t) {
+      precise float ta = signedUnit(randomBits(seed, lo, hi, kVelocityComponents + 2u * t));
+      precise float tb = signedUnit(randomBits(seed, lo, hi, kVelocityComponents + 1u + 2u * t));
+      precise float r2 = ta * ta + tb * tb;
+      if (r2 <= 1.0) {
+        a = ta;
+        b = tb;
+        break;
+      }
+    }
+    o = vec3(r * a, 0.0, r * b);
+  } else if (shape == kShapeSphere) {
+    precise vec3 c = vec3(0.0);
+    for (uint t = 0u; t < kSphereTries; ++t) {
+      precise vec3 tc = vec3(signedUnit(randomBits(seed, lo, hi, kVelocityComponents + 3u * t)),
+                             signedUnit(randomBits(seed, lo, hi, kVelocityComponents + 1u + 3u * t)),
+                             signedUnit(randomBits(seed, lo, hi, kVelocityComponents + 2u + 3u * t)));
+      precise float r2 = (tc.x * tc.x + tc.y * tc.y) + tc.z * tc.z;
+      if (r2 <= 1.0) {
+        c = tc;
+        break;
+      }
+    }
+    o = r * c;
+  } else if (shape == kShapeBox) {
+    precise vec3 c = vec3(signedUnit(randomBits(seed, lo, hi, kVelocityComponents)),
+                          signedUnit(randomBits(seed, lo, hi, kVelocityComponents + 1u)),
+                          signedUnit(randomBits(seed, lo, hi, kVelocityComponents + 2u)));
+    o = e.size.xyz * c;
+  }
+  x = e.position.xyz + o;
+  v = e.velocity.xyz + e.spread.xyz * u;
+  flush(v);
+}
+
+// F(x, v): wind and gravity (w = wind.y - m g, from the host), drag, then the forces.
+void force(const World g, precise vec3 x, precise vec3 v, float w, out precise vec3 f) {
+  f = vec3(g.wind.x, w, g.wind.z) - g.drag * v;
+  for (uint i = 0u; i < kForces; ++i) {
+    const ForceParams F = scene.forces[i];
+    precise float k = F.position.w;
+    if (F.kind.x == kAttractor) {
+      precise vec3 d = F.position.xyz - x;
+      precise float dd = (d.x * d.x + d.y * d.y) + d.z * d.z;
+      if (F.kind.y != 0u || dd <= F.axis.w) f = f + k * d;
+    } else {
+      precise vec3 d = x - F.position.xyz;
+      const vec3 a = F.axis.xyz;
+      precise vec3 c = vec3(a.y * d.z - a.z * d.y, a.z * d.x - a.x * d.z, a.x * d.y - a.y * d.x);
+      f = f + k * c;
     }
   }
-  precise float radius = p.emitter.w;
-  x.x = p.emitter.x + radius * dx;
-  x.y = p.emitter.y;
-  x.z = p.emitter.z + radius * dz;
-  v.x = p.velocity.x + p.spread.x * u.x;
-  v.y = p.velocity.y + p.spread.y * u.y;
-  v.z = p.velocity.z + p.spread.z * u.z;
+}
+
+// R(n, ε, α) for a projected particle: restitution on the normal speed, retention (and
+// static friction) on the tangential velocity.
+void respond(inout precise vec3 v, precise vec3 n, float restitution, float friction) {
+  precise float vn = (v.x * n.x + v.y * n.y) + v.z * n.z;
+  if (vn < 0.0) {
+    precise vec3 t = v - vn * n;
+    precise vec3 kept = friction * t;
+    if (abs(kept.x) < kRestSpeed) kept.x = 0.0;
+    if (abs(kept.y) < kRestSpeed) kept.y = 0.0;
+    if (abs(kept.z) < kRestSpeed) kept.z = 0.0;
+    precise float e = -(restitution * vn);
+    v = kept + e * n;
+  }
+}
+
+// 1/sqrt(q) for q > 0 from the bit pattern and three Newton steps: only adds and
+// multiplies, so every conforming driver computes the same bits.
+float inverseRoot(precise float q) {
+  precise float y = uintBitsToFloat(kRsqrtMagic - (floatBitsToUint(q) >> 1u));
+  precise float halfQ = 0.5 * q;
+  y = y * (1.5 - (halfQ * y) * y);
+  y = y * (1.5 - (halfQ * y) * y);
+  y = y * (1.5 - (halfQ * y) * y);
+  return y;
+}
+
+// The solid truncated cone (README "The crater"): pushed out through its top or its side,
+// whichever is nearer, a margin beyond the surface.
+void cone(const ColliderParams c, inout precise vec3 x, inout precise vec3 v) {
+  precise vec3 d = x - c.position.xyz;
+  const float height = c.shape.z;
+  if (d.y >= 0.0 && d.y < height) {
+    precise float ry = c.shape.x + c.shape.y * d.y;
+    precise float q = d.x * d.x + d.z * d.z;
+    precise float rr = ry * ry;
+    if (q < rr) {
+      precise float rx = 1.0, rz = 0.0, rho = 0.0;
+      if (q >= kAxisSquared) {
+        precise float inv = inverseRoot(q);
+        rx = d.x * inv;
+        rz = d.z * inv;
+        rho = q * inv;
+      }
+      precise float side = (ry - rho) * c.cone.x;
+      precise float up = height - d.y;
+      precise vec3 n;
+      if (up <= side) {
+        x.y = c.cone.z;
+        n = vec3(0.0, 1.0, 0.0);
+      } else {
+        n = vec3(c.cone.x * rx, c.cone.y, c.cone.x * rz);
+        precise float move = side + c.cone.w;
+        x = x + move * n;
+      }
+      respond(v, n, c.material.x, c.material.y);
+      flush(v);
+    }
+  }
+}
+
+void collide(const ColliderParams c, inout precise vec3 x, inout precise vec3 v) {
+  const uint type = c.kind.x;
+  if (type == kPlane) {
+    precise vec3 n = c.shape.xyz;
+    precise vec3 r = x - c.position.xyz;
+    precise float dist = (r.x * n.x + r.y * n.y) + r.z * n.z;
+    if (dist < 0.0) {
+      x = x - dist * n;
+      respond(v, n, c.material.x, c.material.y);
+      flush(v);
+    }
+  } else if (type == kSphere) {
+    precise vec3 d = x - c.position.xyz;
+    precise float q = (d.x * d.x + d.y * d.y) + d.z * d.z;
+    if (q < c.shape.y) {
+      precise vec3 n = vec3(0.0, 1.0, 0.0);
+      if (q != 0.0) {
+        precise float s = sqrt(q);  // the one square root and division SPEC §6 allows
+        n = vec3(d.x / s, d.y / s, d.z / s);
+      }
+      x = c.position.xyz + c.shape.x * n;
+      respond(v, n, c.material.x, c.material.y);
+      flush(v);
+    }
+  } else if (type == kBox) {
+    precise vec3 d = x - c.position.xyz;
+    const vec3 e = c.shape.xyz;
+    if (abs(d.x) < e.x && abs(d.y) < e.y && abs(d.z) < e.z) {
+      precise vec3 gap = e - abs(d);
+      uint j = 0u;
+      if (gap.y < gap.x) j = 1u;
+      if (gap.z < (j == 0u ? gap.x : gap.y)) j = 2u;
+      precise float sigma = d[j] >= 0.0 ? 1.0 : -1.0;
+      x[j] = c.position[j] + sigma * e[j];
+      precise vec3 n = vec3(0.0);
+      n[j] = sigma;
+      respond(v, n, c.material.x, c.material.y);
+      flush(v);
+    }
+  } else {
+    cone(c, x, v);
+  }
+}
+
+// One step of an alive particle (after any birth).
+void step(const World g, const Model e, inout precise vec3 x, inout precise vec3 v,
+          inout precise float age) {
+  precise float h = g.h;
+  precise float hm = e.hm;
+  precise float w = e.w;
+  precise vec3 f;
+  force(g, x, v, w, f);
+  if (kIntegrator == kSemiImplicitEuler) {
+    precise vec3 v1 = v + hm * f;
+    x = x + h * v1;
+    v = v1;
+  } else if (kIntegrator == kVelocityVerlet) {
+    precise vec3 x1 = (x + h * v) + e.hh * f;
+    precise vec3 vs = v + hm * f;
+    precise vec3 f1;
+    force(g, x1, vs, w, f1);
+    v = v + e.hk * (f + f1);
+    x = x1;
+  } else {  // explicit Euler (the seed): position with the start-of-step velocity
+    precise vec3 x1 = x + h * v;
+    v = v + hm * f;
+    x = x1;
+  }
+  flush(v);
+  age = age + h;
+  // The ground (seed eq. 7): restitution on y, retention and static friction on x and z.
+  if (x.y < 0.0) {
+    x.y = 0.0;
+    if (v.y < 0.0) {
+      v.x = g.friction * v.x;
+      v.z = g.friction * v.z;
+      v.y = -(g.restitution * v.y);
+      if (abs(v.x) < kRestSpeed) v.x = 0.0;
+      if (abs(v.z) < kRestSpeed) v.z = 0.0;
+      flush(v);
+    }
+  }
+  for (uint i = 0u; i < kColliders; ++i) collide(scene.colliders[i], x, v);
+  if (kLifetimes != 0u && e.lifetime > 0.0 && age >= e.lifetime) age = -1.0;
 }
 
 // The state of one particle while an invocation advances it.
 struct State {
   vec3 x;      // position (m)
   vec3 v;      // velocity (m/s)
-  float age;   // s; < 0: never emitted
+  float age;   // s; < 0: not alive
   float m;     // kg
+  uint k;      // its emitter
   uint first;  // first step of this dispatch to integrate (after its last birth)
 };
 
-// Loads particle `local` of the bound range and applies its last birth in this dispatch.
+// Loads particle `local` of the bound chunk and applies its last birth in this dispatch.
 // Only the last birth matters: emission overwrites the whole particle. The dispatch's
-// births fill the ring contiguously from the first step's head, so the last one landing on
-// this slot is found arithmetically and its step by a binary search over the running sums:
-// the costly emission (hashes, disc rejection) runs once per dispatch, not masked in every
-// step as SIMD drivers such as lavapipe would.
+// births of one emitter fill its ring contiguously from the first step's head, so the last
+// one landing on this slot is found arithmetically and its step by a binary search over
+// the running sums: the costly emission (hashes, rejection) runs once per dispatch, not
+// masked in every step as SIMD drivers such as lavapipe would.
 State load(uint local) {
-  const uint capacity = p.run.y;
-  const uint firstEntry = p.run.z;
-  const uint steps = p.run.w;
+  const uint slot = p.chunk.x + local;
+  uint k = 0u;
+  for (uint i = 1u; i < kEmitters; ++i)
+    if (slot >= scene.emitters[i].ring.w) k = i;
+  const uint capacity = scene.emitters[k].ring.z;
+  const uint steps = p.run.y;
+  const uint firstEntry = k * p.run.z + p.run.x;
   // Read through the texel view: each invocation reads its particles before it writes them,
   // and other invocations touch other particles.
   Particle q = Particle(texelFetch(particleTexels, int(2u * local)),
                         texelFetch(particleTexels, int(2u * local + 1u)));
-  State st = State(q.posAge.xyz, q.velMass.xyz, q.posAge.w, q.velMass.w, 0u);
-  uint slot = p.chunk.x + local;
+  State st = State(q.posAge.xyz, q.velMass.xyz, q.posAge.w, q.velMass.w, k, 0u);
+  const uint ringSlot = slot - scene.emitters[k].ring.w;
   uvec4 start = schedule[firstEntry].ring;
   uint base = schedule[firstEntry].sums.x;
   EmitEntry last = schedule[firstEntry + steps - 1u];
   uint total = last.sums.x + last.ring.y - base;  // births in this dispatch (host keeps < 2^31)
-  uint rel = slot >= start.x ? slot - start.x : slot + capacity - start.x;
+  uint rel = ringSlot >= start.x ? ringSlot - start.x : ringSlot + capacity - start.x;
   if (rel < total) {
     uint birth = rel + ((total - 1u - rel) / capacity) * capacity;  // index of the last birth
     uint lo = 0u;
@@ -90,63 +332,43 @@ State load(uint local) {
     }
     uint serialLo = start.z + birth;
     uint serialHi = start.w + (serialLo < start.z ? 1u : 0u);
-    emit(serialLo, serialHi, st.x, st.v);
+    precise vec3 x, v;
+    emit(k, serialLo, serialHi, x, v);
+    st.x = x;
+    st.v = v;
     st.age = 0.0;
-    st.m = p.material.z;
+    st.m = scene.emitters[k].velocity.w;
     st.first = lo;
   }
-  if (st.age < 0.0) st.first = steps;  // never emitted: not stepped, not stored
+  if (st.age < 0.0) st.first = steps;  // not alive and not born: not stepped, not stored
   return st;
-}
-
-// One step of SPEC §2 (after emission). `hm` = h/m and `weight` = wind.y - m g are the
-// same quotient and product the reference computes every step.
-void integrate(inout vec3 x, inout vec3 v, inout float age, float hm, float weight) {
-  precise float h = p.velocity.w;
-  // Explicit Euler: position with the start-of-step velocity, then velocity.
-  precise vec3 v0 = v;
-  precise vec3 x1 = x + h * v0;
-  precise vec3 f = vec3(p.wind.x, weight, p.wind.z) - p.wind.w * v0;
-  precise vec3 v1 = v0 + hm * f;
-  age = age + h;
-  // Ground impulse (seed eq. 7) with tangential damping and static friction.
-  if (x1.y < 0.0) {
-    x1.y = 0.0;
-    if (v1.y < 0.0) {
-      v1.x = p.material.y * v1.x;
-      v1.z = p.material.y * v1.z;
-      v1.y = -(p.material.x * v1.y);
-      if (abs(v1.x) < kRestSpeed) v1.x = 0.0;
-      if (abs(v1.z) < kRestSpeed) v1.z = 0.0;
-    }
-  }
-  x = x1;
-  v = v1;
 }
 
 // Four particles per invocation, a + k * stride: their step chains are independent, so
 // interleaving them hides each one's latency (lavapipe runs one SIMD vector of invocations
 // at a time: 2x faster with two particles, 2.5x with four, at 262,144 particles).
 void main() {
-  const uint steps = p.run.w;
-  const uint stride = (p.chunk.y + kParticlesPerInvocation - 1u) / kParticlesPerInvocation;
-  uint a = gl_GlobalInvocationID.x;
+  const uint steps = p.run.y;
+  const uint count = p.chunk.y;
+  const uint stride = (count + kParticlesPerInvocation - 1u) / kParticlesPerInvocation;
+  const uint a = gl_GlobalInvocationID.x;
   if (a >= stride) return;
+  const State none = State(vec3(0.0), vec3(0.0), -1.0, 0.0, 0u, steps);
   State s0 = load(a);
-  State s1 = a + stride < p.chunk.y ? load(a + stride) : State(vec3(0.0), vec3(0.0), -1.0, 1.0, steps);
-  State s2 = a + 2u * stride < p.chunk.y ? load(a + 2u * stride) : State(vec3(0.0), vec3(0.0), -1.0, 1.0, steps);
-  State s3 = a + 3u * stride < p.chunk.y ? load(a + 3u * stride) : State(vec3(0.0), vec3(0.0), -1.0, 1.0, steps);
+  State s1 = a + stride < count ? load(a + stride) : none;
+  State s2 = a + 2u * stride < count ? load(a + 2u * stride) : none;
+  State s3 = a + 3u * stride < count ? load(a + 3u * stride) : none;
   precise vec3 x0 = s0.x, v0 = s0.v, x1 = s1.x, v1 = s1.v, x2 = s2.x, v2 = s2.v, x3 = s3.x, v3 = s3.v;
   precise float age0 = s0.age, age1 = s1.age, age2 = s2.age, age3 = s3.age;
-  precise float g = p.spread.w;
-  precise float h = p.velocity.w;
-  precise float hm0 = h / s0.m, hm1 = h / s1.m, hm2 = h / s2.m, hm3 = h / s3.m;
-  precise float w0 = p.wind.y - s0.m * g, w1 = p.wind.y - s1.m * g, w2 = p.wind.y - s2.m * g, w3 = p.wind.y - s3.m * g;
+  const World g = World(scene.world.x, scene.world.w, scene.world.y, scene.world.z, scene.wind.xyz);
+  const Model m0 = model(s0.k), m1 = model(s1.k), m2 = model(s2.k), m3 = model(s3.k);
+  // Without lifetimes an alive particle stays alive: only its first step needs checking.
+  const bool deaths = kLifetimes != 0u;
   for (uint s = min(min(s0.first, s1.first), min(s2.first, s3.first)); s < steps; ++s) {
-    if (s >= s0.first) integrate(x0, v0, age0, hm0, w0);
-    if (s >= s1.first) integrate(x1, v1, age1, hm1, w1);
-    if (s >= s2.first) integrate(x2, v2, age2, hm2, w2);
-    if (s >= s3.first) integrate(x3, v3, age3, hm3, w3);
+    if (s >= s0.first && (!deaths || age0 >= 0.0)) step(g, m0, x0, v0, age0);
+    if (s >= s1.first && (!deaths || age1 >= 0.0)) step(g, m1, x1, v1, age1);
+    if (s >= s2.first && (!deaths || age2 >= 0.0)) step(g, m2, x2, v2, age2);
+    if (s >= s3.first && (!deaths || age3 >= 0.0)) step(g, m3, x3, v3, age3);
   }
   if (s0.first < steps) particles[a] = Particle(vec4(x0, age0), vec4(v0, s0.m));
   if (s1.first < steps) particles[a + stride] = Particle(vec4(x1, age1), vec4(v1, s1.m));

@@ -1,4 +1,6 @@
-// The GPU/CPU contract: struct layouts (also static_asserted in shared.h) and the random hash.
+// The GPU/CPU contract: the random hash pinned to values computed apart (in Python), its
+// float conversion, and its spread. (Struct layouts are static_asserted in shared.h and
+// checked against the compiled SPIR-V in spirv_test.cpp.)
 #include <gtest/gtest.h>
 
 #include <cstddef>
@@ -10,21 +12,18 @@ namespace lava::gpu {
 namespace {
 
 static_assert(offsetof(Particle, px) == 0 && offsetof(Particle, vx) == 16);
-static_assert(offsetof(StepParams, material) == 64 && offsetof(StepParams, chunk) == 96);
 static_assert(sizeof(StepParams) <= 128, "the minimum guaranteed push-constant size");
 
-TEST(Layout, ParticleIsTwoVec4) {
-  EXPECT_EQ(sizeof(Particle), 32u);
-  EXPECT_EQ(alignof(Particle), alignof(float));
-}
-
 TEST(Random, HashIsPinned) {
-  // Pinned (value computed independently in Python) so that a change to the hash, and so
-  // to every emitted particle, is deliberate.
-  EXPECT_EQ(hashMix(0u), 0u);
+  // Pinned to values computed independently in Python, so that a change to the hash, and
+  // so to every emitted particle, is deliberate.
   EXPECT_EQ(hashMix(1u), 0x688990c0u) << std::hex << hashMix(1u);
-  EXPECT_EQ(randomBits(7u, 1u, 0u, 2u), randomBits(7u, 1u, 0u, 2u));
-  EXPECT_NE(randomBits(7u, 1u, 0u, 2u), randomBits(7u, 1u, 1u, 2u));  // high serial word counts
+  EXPECT_EQ(hashMix(0x12345678u), 0xf5e71c96u) << std::hex << hashMix(0x12345678u);
+  EXPECT_EQ(randomBits(7u, 1u, 0u, 2u), 0xe2e872e3u);
+  EXPECT_EQ(randomBits(7u, 1u, 1u, 2u), 0xb3d6f575u);  // the serial's high word counts
+  EXPECT_EQ(randomBits(20170101u, 0u, 0u, 0u), 0x6d0f5089u);
+  EXPECT_EQ(randomBits(20170101u, 12345u, 0u, 3u), 0xf66e00b6u);
+  EXPECT_EQ(randomBits(0xffffffffu, 0xffffffffu, 0xffffffffu, 31u), 0xb0d7ce99u);
 }
 
 TEST(Random, SignedUnitCoversMinusOneToOneExactly) {

@@ -1,13 +1,16 @@
 // The Vulkan backend: step.comp over the particles, held in chunks of at most one binding,
 // one texel view, one dispatch and one allocation each; many steps per dispatch. The host
-// plans each frame's emission into that frame's slot of a host-visible schedule.
+// plans each frame's emission into that frame's slot of a host-visible schedule, and writes
+// the scene's parameters into that slot's uniform buffer.
 #include <algorithm>
 #include <cstring>
+
+#include <map>
 
 #include "emission.h"
 #include "lava/error.h"
 #include "lava/simulation.h"
-#include "model.h"
+#include "scene_params.h"
 #include "shared.h"
 #include "vulkan/buffer.h"
 #include "vulkan/check.h"
@@ -27,26 +30,31 @@ constexpr VkDeviceSize kParticleBytes = sizeof(Particle);
 constexpr uint32_t kMaxStepsPerDispatch = 256;
 constexpr uint32_t kBlockingSteps = 4096;  // steps one blocking submission runs
 
-// One slot of the schedule: the entries of the steps planned into it, and on the host the
-// births before each entry (to keep a dispatch under 2^31 births).
+// One slot of the schedule: each emitter's entries for the steps planned into it (a region
+// of `capacity` entries per emitter), the scene's parameters for them, and on the host each
+// emitter's births before each entry (to keep a dispatch under 2^31 births).
 struct ScheduleSlot {
-  VkDeviceSize offset = 0;       // in the schedule buffer
-  uint32_t capacity = 0;         // entries it holds
-  uint32_t planned = 0;          // entries the last update() wrote
-  std::vector<uint64_t> births;  // births before entry i (capacity + 1)
+  VkDeviceSize offset = 0;                    // of its entries in the schedule buffer
+  VkDeviceSize sceneOffset = 0;               // of its SceneParams in the scene buffer
+  uint32_t capacity = 0;                      // entries per emitter
+  uint32_t planned = 0;                       // steps the last update() wrote, until recorded
+  std::vector<std::vector<uint64_t>> births;  // [emitter][i]: births before entry i
+  VkPipeline pipeline = VK_NULL_HANDLE;       // for the scene planned into it
 };
 
-// Push constants of one dispatch; the caller fills run.zw and chunk.
-gpu::StepParams stepParams(const Scene& s) {
-  const Emitter& e = s.emitters[0];
-  gpu::StepParams p{};
-  p.emitter = glm::vec4(e.position.x, e.position.y, e.position.z, e.radius);
-  p.velocity = glm::vec4(e.velocity.x, e.velocity.y, e.velocity.z, s.h());
-  p.spread = glm::vec4(e.spread.x, e.spread.y, e.spread.z, s.gravity);
-  p.wind = glm::vec4(s.wind.x, s.wind.y, s.wind.z, s.drag);
-  p.material = glm::vec4(s.restitution, s.friction, e.mass, 0.0f);
-  p.run = glm::uvec4(s.seed, e.particles, 0u, 0u);
-  return p;
+VkDeviceSize alignUp(VkDeviceSize bytes, VkDeviceSize alignment) {
+  alignment = std::max<VkDeviceSize>(alignment, 1);
+  return (bytes + alignment - 1) / alignment * alignment;
+}
+
+// step.comp compiled with the float controls this device honours.
+detail::Spirv stepShader(const detail::DeviceContext& c) {
+  const bool signedZero = c.floatControls.shaderSignedZeroInfNanPreserveFloat32;
+  const bool rte = c.floatControls.shaderRoundingModeRTEFloat32;
+  if (signedZero && rte) return LAVA_SPIRV(spirv::kStepCompSpv);
+  if (signedZero) return LAVA_SPIRV(spirv::kStepSignedZeroSpv);
+  if (rte) return LAVA_SPIRV(spirv::kStepRteSpv);
+  return LAVA_SPIRV(spirv::kStepPlainSpv);
 }
 
 }  // namespace
@@ -59,16 +67,19 @@ struct GpuSimulation::Impl {
   std::vector<ParticleChunk> chunks;
   Buffer upload, readback;  // one chunk's worth each, for setState() and state()
   Buffer schedule;
+  Buffer sceneParams;
   std::vector<ScheduleSlot> slots;  // framesInFlight frame slots, then the blocking slot
   detail::UniqueDescriptorSetLayout setLayout;
   detail::UniquePipelineLayout pipelineLayout;
-  detail::UniquePipeline pipeline;
+  // One pipeline per set of modules a scene used (kept: a frame in flight may use it).
+  std::map<detail::Constants, detail::UniquePipeline> pipelines;
   std::vector<EmitterClock> clocks;
   uint64_t step = 0;
 
   Impl(detail::DeviceContext& context, const GpuSimulationOptions& o) : c(context), options(o) {}
 
   uint32_t blockingSlot() const { return options.framesInFlight; }
+  VkPipeline pipelineFor(const Scene& scene);
   void plan(const Scene& scene, uint32_t slot, uint32_t steps);
   // Records the steps planned into `slot` and marks them recorded.
   void record(const Scene& scene, VkCommandBuffer commands, uint32_t slot);
@@ -79,7 +90,6 @@ struct GpuSimulation::Impl {
 GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
                              const GpuSimulationOptions& options)
     : Simulation(scene), impl_(std::make_unique<Impl>(device.context(), options)) {
-  detail::requireSupported(scene);
   Impl& m = *impl_;
   detail::DeviceContext& c = m.c;
   if (options.framesInFlight < 1 || options.framesInFlight > 16)
@@ -114,28 +124,30 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
   m.upload = Buffer(c, chunkBytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload);
   m.readback = Buffer(c, chunkBytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback);
 
-  const VkDeviceSize alignment =
-      std::max<VkDeviceSize>(c.limits.minStorageBufferOffsetAlignment, 1);
-  VkDeviceSize offset = 0;
+  const size_t emitters = scene.emitters.size();
+  VkDeviceSize offset = 0, sceneOffset = 0;
   for (uint32_t s = 0; s <= options.framesInFlight; ++s) {
     ScheduleSlot slot;
     slot.offset = offset;
+    slot.sceneOffset = sceneOffset;
     slot.capacity = s < options.framesInFlight ? options.maxStepsPerFrame : kBlockingSteps;
-    slot.births.assign(slot.capacity + 1, 0);
-    offset += (slot.capacity * sizeof(gpu::EmitEntry) + alignment - 1) / alignment * alignment;
+    slot.births.assign(emitters, std::vector<uint64_t>(slot.capacity + 1, 0));
+    offset += alignUp(emitters * slot.capacity * sizeof(gpu::EmitEntry),
+                      c.limits.minStorageBufferOffsetAlignment);
+    sceneOffset += alignUp(sizeof(gpu::SceneParams), c.limits.minUniformBufferOffsetAlignment);
     m.slots.push_back(std::move(slot));
   }
   m.schedule = Buffer(c, offset, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload);
+  m.sceneParams = Buffer(c, sceneOffset, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemoryUse::Upload);
 
   m.setLayout = detail::createPushLayout(
       c,
       {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-       VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+       VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
       VK_SHADER_STAGE_COMPUTE_BIT);
   m.pipelineLayout = detail::createPipelineLayout(c, m.setLayout, VK_SHADER_STAGE_COMPUTE_BIT,
                                                   sizeof(gpu::StepParams));
-  m.pipeline = detail::createComputePipeline(c, m.pipelineLayout, LAVA_SPIRV(spirv::kStepCompSpv),
-                                             {gpu::kWorkgroupSize});
+  m.pipelineFor(scene);
   setState(initialState(scene));
 }
 
@@ -163,6 +175,18 @@ uint64_t GpuSimulation::step() const {
 
 void GpuSimulation::setScene(const Scene& scene) {
   Simulation::setScene(scene);
+  impl_->pipelineFor(scene_);  // created now, not while recording
+}
+
+VkPipeline GpuSimulation::Impl::pipelineFor(const Scene& scene) {
+  const detail::Constants constants = detail::stepConstants(scene);
+  auto it = pipelines.find(constants);
+  if (it == pipelines.end())
+    it = pipelines
+             .emplace(constants,
+                      detail::createComputePipeline(c, pipelineLayout, stepShader(c), constants))
+             .first;
+  return it->second;
 }
 
 void GpuSimulation::Impl::plan(const Scene& scene, uint32_t index, uint32_t steps) {
@@ -172,34 +196,48 @@ void GpuSimulation::Impl::plan(const Scene& scene, uint32_t index, uint32_t step
                                        " steps per update, got " + std::to_string(steps));
   auto* entries =
       reinterpret_cast<gpu::EmitEntry*>(static_cast<char*>(schedule.mapped()) + slot.offset);
-  const Emitter& e = scene.emitters[0];
-  const uint64_t period = detail::burstPeriod(e, scene.dt);
-  uint64_t births = 0;  // only differences within one dispatch matter
-  for (uint32_t k = 0; k < steps; ++k) {
-    const detail::Births b = detail::advanceClock(clocks[0], e, scene.h(), period, step + k);
-    entries[k].ring = {b.head, b.count, static_cast<uint32_t>(b.firstSerial),
-                       static_cast<uint32_t>(b.firstSerial >> 32)};
-    entries[k].sums = {static_cast<uint32_t>(births), 0u, 0u, 0u};
-    slot.births[k] = births;
-    births += b.count;
+  for (size_t k = 0; k < scene.emitters.size(); ++k) {
+    const Emitter& e = scene.emitters[k];
+    const uint64_t period = detail::burstPeriod(e, scene.dt);
+    gpu::EmitEntry* region = entries + k * slot.capacity;
+    std::vector<uint64_t>& before = slot.births[k];
+    uint64_t births = 0;  // only differences within one dispatch matter
+    for (uint32_t i = 0; i < steps; ++i) {
+      const detail::Births b = detail::advanceClock(clocks[k], e, scene.h(), period, step + i);
+      region[i].ring = {b.head, b.count, static_cast<uint32_t>(b.firstSerial),
+                        static_cast<uint32_t>(b.firstSerial >> 32)};
+      region[i].sums = {static_cast<uint32_t>(births), 0u, 0u, 0u};
+      before[i] = births;
+      births += b.count;
+    }
+    before[steps] = births;
   }
-  slot.births[steps] = births;
+  const gpu::SceneParams params = detail::sceneParams(scene);
+  std::memcpy(static_cast<char*>(sceneParams.mapped()) + slot.sceneOffset, &params, sizeof(params));
+  slot.pipeline = pipelineFor(scene);
   slot.planned = steps;
   step += steps;
   schedule.flush();
+  sceneParams.flush();
 }
 
 void GpuSimulation::Impl::record(const Scene& scene, VkCommandBuffer commands, uint32_t index) {
   ScheduleSlot& slot = slots[index];
   if (slot.planned == 0) return;
-  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-  gpu::StepParams params = stepParams(scene);
-  const VkDeviceSize scheduleBytes = slot.capacity * sizeof(gpu::EmitEntry);
+  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, slot.pipeline);
+  gpu::StepParams params{};
+  params.run.z = slot.capacity;
+  const VkDeviceSize scheduleBytes = scene.emitters.size() * slot.capacity * sizeof(gpu::EmitEntry);
+  // Fewer than 2^31 births of each emitter in one dispatch (the shader's 32-bit sums).
+  const auto fits = [&slot](uint32_t from, uint32_t to) {
+    for (const std::vector<uint64_t>& births : slot.births)
+      if (births[to] - births[from] >= (uint64_t{1} << 31)) return false;
+    return true;
+  };
   for (uint32_t done = 0, steps = 0; done < slot.planned; done += steps) {
-    // At most stepsPerDispatch steps and fewer than 2^31 births (the shader's 32-bit sums).
     steps = 1;
     while (done + steps < slot.planned && steps < options.stepsPerDispatch &&
-           slot.births[done + steps + 1] - slot.births[done] < (uint64_t{1} << 31))
+           fits(done, done + steps + 1))
       ++steps;
     // RAW/WAW: an earlier dispatch or upload wrote the particles this one reads and writes;
     // WAR: a draw, splat, or read-back copy read them.
@@ -210,8 +248,8 @@ void GpuSimulation::Impl::record(const Scene& scene, VkCommandBuffer commands, u
                           VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                           VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-    params.run.z = done;
-    params.run.w = steps;
+    params.run.x = done;
+    params.run.y = steps;
     for (const ParticleChunk& chunk : chunks) {
       params.chunk = {static_cast<uint32_t>(chunk.first), chunk.count, 0u, 0u};
       detail::PushDescriptors()
@@ -220,6 +258,8 @@ void GpuSimulation::Impl::record(const Scene& scene, VkCommandBuffer commands, u
           .buffer(gpu::kScheduleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, schedule.get(),
                   slot.offset, scheduleBytes)
           .texels(gpu::kParticleTexelBinding, chunk.texels)
+          .buffer(gpu::kSceneBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, sceneParams.get(),
+                  slot.sceneOffset, sizeof(gpu::SceneParams))
           .push(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout);
       c.vk.CmdPushConstants(commands, pipelineLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
                             sizeof(params), &params);

@@ -1,17 +1,50 @@
 // The CPU reference, one particle at a time: the model written apart from the shaders, in
-// plain float32 C++ built with -ffp-contract=off. CpuSimulation runs it over the rings;
-// tests call it directly against closed forms.
+// plain float32 C++ built with -ffp-contract=off. A Reference holds a scene with its host
+// constants derived once; CpuSimulation runs it over the rings, tests call it directly
+// against closed forms.
 #pragma once
 #include <cstdint>
+#include <vector>
 
+#include "constants.h"
+#include "emission.h"
 #include "lava/scene.h"
 #include "lava/state.h"
 
 namespace lava::detail {
 
-// The particle of emitter `emitter` with serial number `serial`, at its birth.
+class Reference {
+ public:
+  explicit Reference(const Scene& scene);
+
+  // The particle of emitter `emitter` with serial number `serial`, at its birth.
+  void emit(size_t emitter, uint64_t serial, Particle& particle) const;
+  // One step of a particle of emitter `emitter`; slots not alive are left as they are.
+  void step(size_t emitter, Particle& particle) const;
+  // Slots [first, first + count) of emitter `emitter`'s ring (all in `slots`) through the
+  // steps of `schedule`: each step's births, then the step.
+  void run(size_t emitter, const std::vector<Births>& schedule, uint32_t first, Particle* slots,
+           size_t count) const;
+
+ private:
+  // Euler: the seed's model (explicit Euler, no forces, colliders or lifetimes), the same
+  // operations with the branches for the other modules left out. Any: everything.
+  enum class Modules { Euler, Any };
+  template <Modules M>
+  void stepWith(size_t emitter, Particle& particle) const;
+  template <Modules M>
+  void runWith(size_t emitter, const std::vector<Births>& schedule, uint32_t first, Particle* slots,
+               size_t count) const;
+
+  Scene scene_;
+  Modules modules_;
+  std::vector<EmitterConstants> emitters_;
+  std::vector<Vec3> normals_;         // per collider: its plane's unit normal
+  std::vector<ConeConstants> cones_;  // per collider: its cone's constants
+};
+
+// Shorthands for single particles (tests).
 void emitParticle(const Scene& scene, size_t emitter, uint64_t serial, Particle& particle);
-// One step of a particle of emitter `emitter`; slots not alive are left as they are.
 void stepParticle(const Scene& scene, size_t emitter, Particle& particle);
 
 }  // namespace lava::detail

@@ -1,26 +1,8 @@
 // What both backends share: the scene they were made for and its checks.
 #include "lava/simulation.h"
 #include "lava/error.h"
-#include "model.h"
 
 namespace lava {
-
-namespace detail {
-
-void requireSupported(const Scene& s) {
-  const auto unsupported = [](const std::string& what) {
-    throw InvalidArgument(what, "not supported yet: the backends run the single-emitter model");
-  };
-  if (s.emitters.size() != 1) unsupported("emitter");
-  const Emitter& e = s.emitters[0];
-  if (e.shape != Shape::Disc) unsupported("shape");
-  if (e.lifetime != 0.0f) unsupported("lifetime");
-  if (!s.forces.empty()) unsupported("force");
-  if (!s.colliders.empty()) unsupported("collider");
-  if (s.integrator != Integrator::ExplicitEuler) unsupported("integrator");
-}
-
-}  // namespace detail
 
 Simulation::Simulation(const Scene& scene) : scene_(scene) {
   validate(scene_);
@@ -30,7 +12,6 @@ Simulation::~Simulation() = default;
 
 void Simulation::setScene(const Scene& scene) {
   validate(scene);
-  detail::requireSupported(scene);
   if (scene.emitters.size() != scene_.emitters.size())
     throw InvalidArgument("emitter", "a running simulation keeps its " +
                                          std::to_string(scene_.emitters.size()) + " emitters");
