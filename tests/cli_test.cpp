@@ -85,6 +85,17 @@ const std::string kInfScene = writeScene("inf.toml", "gravity = -inf\n");
 const std::string kNegativeCount = writeScene("negative.toml", "particles = -5\n");
 const std::string kBoolScene = writeScene("bool.toml", "mass = true\n");
 const std::string kTableScene = writeScene("table.toml", "[emitter]\nx = 1\n");
+const std::string kUnknownType = writeScene("type2.toml", "[[collider]]\ntype = \"torus\"\n");
+const std::string kZeroNormal =
+    writeScene("normal.toml", "[[collider]]\ntype = \"plane\"\nnormal = [0, 0, 0]\n");
+const std::string kNegativeSize =
+    writeScene("size.toml", "[[emitter]]\n[[emitter]]\nshape = \"box\"\nsize = [1, -1, 1]\n");
+const std::string kShortVector = writeScene("arity2.toml", "[[force]]\naxis = [0, 1]\n");
+const std::string kSeventeen = writeScene("many.toml", [] {
+  std::string s;
+  for (int i = 0; i < 17; ++i) s += "[[emitter]]\nparticles = 10\n";
+  return s;
+}());
 
 const BadInput kBadInputs[] = {
     {"simulate --steps 10 --restitution abc", "--restitution"},
@@ -164,10 +175,21 @@ INSTANTIATE_TEST_SUITE_P(MissingScene, HostileInput, ::testing::ValuesIn(kBadSce
 
 TEST(SceneFile, HostileScenesExitTwoNamingTheKey) {
   const std::pair<std::string, std::string> cases[] = {
-      {kGarbageScene, "--scene"}, {kUnknownKey, "lava_temperature"}, {kWrongType, "restitution"},
-      {kWrongArity, "emitter"},   {kBadRange, "friction"},           {kNanScene, "restitution"},
-      {kInfScene, "gravity"},     {kNegativeCount, "particles"},     {kBoolScene, "mass"},
+      {kGarbageScene, "--scene"},
+      {kUnknownKey, "lava_temperature"},
+      {kWrongType, "restitution"},
+      {kWrongArity, "emitter"},
+      {kBadRange, "friction"},
+      {kNanScene, "restitution"},
+      {kInfScene, "gravity"},
+      {kNegativeCount, "particles"},
+      {kBoolScene, "mass"},
       {kTableScene, "emitter"},
+      {kUnknownType, "collider[0].type"},
+      {kZeroNormal, "collider[0].normal"},
+      {kNegativeSize, "emitter[1].size"},
+      {kShortVector, "force[0].axis"},
+      {kSeventeen, "at most 16 [[emitter]]"},
   };
   for (const auto& [path, mentions] : cases) {
     const Result r = lava("simulate --steps 1 --scene " + path);
@@ -209,6 +231,28 @@ TEST(SceneFile, OneSceneServesEveryCommand) {
   r = lava("render --scene " + scene + " --out " + frames);
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("wrote 2 frames (64x48)"), std::string::npos) << r.out;
+}
+
+TEST(SceneFile, FormatTwoRowsAreEmitterZeroThenOne) {
+  const std::string scene =
+      writeScene("two.toml",
+                 "[[emitter]]\nparticles = 30\nrate = 0\n[[emitter]]\nparticles = 20\n"
+                 "rate = 0\nburst = 20\nshape = \"point\"\nposition = [0, 5, 0]\n");
+  const std::string out = scratch("two.csv");
+  const Result r = lava("simulate --steps 1 --scene " + scene + " --out " + out);
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::istringstream rows(readFile(out));
+  std::string line;
+  std::getline(rows, line);  // header
+  int row = 0, unborn = 0, born = 0;
+  while (std::getline(rows, line)) {
+    const bool alive = line.substr(line.rfind(',') + 1) != "-1";
+    (row < 30 ? unborn : born) += row < 30 ? !alive : alive;
+    ++row;
+  }
+  EXPECT_EQ(row, 50);
+  EXPECT_EQ(unborn, 30);  // emitter 0: no births
+  EXPECT_EQ(born, 20);    // emitter 1: its burst
 }
 
 TEST(Simulate, GpuAndCpuBackendsWriteIdenticalFiles) {

@@ -133,6 +133,13 @@ void Options::resolve() {
         throw host::UsageError("--" + e.parameter() + ": " + e.detail());
       }
     }
+  // What no single key decides (a zero normal, a cone's radii, the emitters' total), named
+  // where it came from.
+  if (scene_) try {
+      validate(*scene_);
+    } catch (const InvalidArgument& e) {
+      throw host::UsageError((scenePath_.empty() ? "--" : scenePath_ + ": ") + e.what());
+    }
   for (const auto& [name, value] : flags_) {
     if (command_.count("--" + name) > 0) continue;
     if (auto it = fromFile.find(name); it != fromFile.end()) {
