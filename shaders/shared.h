@@ -38,9 +38,19 @@ const uint kSplatSumsBinding = 1u;
 const uint kResolveSumsBinding = 0u;
 const uint kCopySourceBinding = 0u;
 const uint kCopyDestinationBinding = 1u;
-// ground.vert: the plane's two triangles, then the crater cone's side quads.
-const uint kCraterSides = 48u;
-const uint kGroundVertices = 6u + 6u * kCraterSides;
+// The solids ground.vert generates from gl_VertexIndex, one draw each (BackdropParams.solid.w).
+const uint kSolidGround = 0u;  // two triangles, 24 m across
+const uint kSolidCone = 1u;    // kRoundSides side quads and a top cap fan
+const uint kSolidSphere = 2u;  // kRoundSides x kSphereRings quads
+const uint kSolidBox = 3u;     // 12 triangles
+const uint kSolidPlane = 4u;   // a square of 8 m in the plane
+const uint kRoundSides = 48u;
+const uint kSphereRings = 24u;
+const uint kGroundVertices = 6u;
+const uint kConeVertices = 6u * kRoundSides + 3u * kRoundSides;
+const uint kSphereVertices = 6u * kRoundSides * kSphereRings;
+const uint kBoxVertices = 36u;
+const uint kPlaneVertices = 6u;
 
 // Specialization constants of step.comp (0 is the workgroup size): which modules the
 // scene uses, so that the default scene pays for none of the others.
@@ -145,12 +155,22 @@ struct StepParams {
   uvec4 chunk;  // x first particle (state index) of the bound chunk, y particles in it
 };
 
-// Push constants of lines.vert / ground.vert: camera and line style.
+// Push constants of lines.vert: camera and line style.
 struct DrawParams {
   mat4 viewProj;  // world (m) to Vulkan clip space
   vec4 style;     // x line scale s (s), y speed (m/s) at which a line is fully red,
                   // z age (s) at which it has cooled to its darkest, w unused
-  vec4 crater;    // xyz emitter centre (m), w emitter radius (m)
+};
+
+// Push constants of ground.vert / ground.frag: one solid of the backdrop.
+struct BackdropParams {
+  mat4 viewProj;  // as DrawParams
+  vec4 solid;     // xyz position (m): cone base centre, sphere or box centre, plane point;
+                  // w the kind (kSolidGround ...)
+  vec4 size;      // cone: x base radius, y top radius, z height; sphere: x radius; box: xyz
+                  // half-extents; plane: xyz unit normal (m)
+  vec4 vent;      // xyz the main vent (emitter 0) (m), w its radius: where the rock glows
+  vec4 eye;       // xyz the camera (m): a plane is seen from its normal's side only
 };
 
 // Push constants of splat.comp and resolve.frag, the fast line renderer.
@@ -195,7 +215,8 @@ static_assert(sizeof(EmitterParams) == 96 && sizeof(ForceParams) == 48 &&
 static_assert(sizeof(SceneParams) == 32 + 16 * (96 + 48 + 80), "SceneParams as std140 lays it out");
 static_assert(offsetof(SceneParams, forces) == 32 + 16 * 96, "SceneParams members stay vec4s");
 static_assert(sizeof(StepParams) == 32, "StepParams fits any push-constant budget");
-static_assert(sizeof(DrawParams) == 96, "DrawParams must fit 128 bytes of push constants");
+static_assert(sizeof(DrawParams) == 80, "DrawParams must fit 128 bytes of push constants");
+static_assert(sizeof(BackdropParams) == 128, "BackdropParams must fit 128 bytes of push constants");
 static_assert(sizeof(SplatParams) == 96, "SplatParams must fit 128 bytes of push constants");
 }  // namespace lava::gpu
 #endif

@@ -240,7 +240,7 @@ int run() {
   }
 
   lava::OrbitCamera camera;
-  const lava::View view{camera.viewProj(1.0f), extent};
+  const lava::View view{camera.viewProj(1.0f), extent, camera.eye()};
   uint64_t steps = 0;
   const int frames = 60;
   for (int frame = 0; frame < frames; ++frame) {

@@ -26,6 +26,7 @@ struct RenderFormats {
 struct View {
   Mat4 viewProj;            // world (m) to Vulkan clip space (y down, depth 0..1)
   VkExtent2D extent{0, 0};  // the target, in pixels: recordDraw sets viewport and scissor to it
+  Vec3 eye;                 // the camera's position (m): walls are drawn from the front only
 };
 
 // How lines reach the target: the graphics pipeline (one LINE_LIST primitive per particle,
@@ -66,8 +67,9 @@ class LAVA_API LineRenderer {
   std::unique_ptr<Impl> impl_;
 };
 
-// The ground plane (a 1 m grid, 24 m across) and the crater: the scene's first cone
-// collider, or a cone under emitter 0 when it has none. Opaque; writes depth.
+// The ground plane (a 1 m grid, 24 m across) and the scene's colliders as solids (a plane as
+// an 8 m square seen from its front); a scene without colliders whose emitter 0 is a disc
+// gets a crater of scenery under it. Opaque; writes depth.
 class LAVA_API Backdrop {
  public:
   Backdrop(Device& device, const RenderFormats& formats);

@@ -23,5 +23,6 @@ std::unique_ptr<Command> makeInfo(CLI::App& app);
 std::unique_ptr<Command> makeRender(CLI::App& app);
 std::unique_ptr<Command> makeBench(CLI::App& app);
 std::unique_ptr<Command> makeDemo(CLI::App& app);
+std::unique_ptr<Command> makeStudy(CLI::App& app);
 
 }  // namespace lava::app

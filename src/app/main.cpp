@@ -60,6 +60,7 @@ int main(int argc, char** argv) {
   commands.push_back(lava::app::makeRender(app));
   commands.push_back(lava::app::makeBench(app));
   commands.push_back(lava::app::makeInfo(app));
+  commands.push_back(lava::app::makeStudy(app));
 
   if (argc > 1 && argv[1][0] != '-') {
     std::string known;

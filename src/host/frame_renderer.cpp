@@ -176,7 +176,7 @@ void FrameRenderer::record(VkCommandBuffer commands, uint32_t frame,
                            const std::function<void(VkCommandBuffer)>& overlay) {
   resize(target.extent);
   const View view{camera.viewProj(float(target.extent.width) / float(target.extent.height)),
-                  target.extent};
+                  target.extent, camera.eye()};
   lines_.recordPrepare(commands, frame, simulation, view);
   groundCopied_ = prepareGround(commands, target, view, simulation.scene());
   if (!groundCopied_) {

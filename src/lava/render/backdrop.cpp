@@ -1,5 +1,6 @@
-// Backdrop: the ground plane and the crater cone, generated from gl_VertexIndex (no vertex
-// buffer), opaque and depth-writing.
+// Backdrop: the ground plane and the scene's colliders (or, in a scene without colliders
+// whose vent is a disc, a crater of scenery under it), generated from gl_VertexIndex, opaque
+// and writing depth.
 #include <glm/gtc/type_ptr.hpp>
 
 #include "lava/renderer.h"
@@ -22,28 +23,59 @@ Backdrop::Backdrop(Device& device, const RenderFormats& formats)
   Impl& m = *impl_;
   m.layout = detail::createPipelineLayout(m.c, VK_NULL_HANDLE,
                                           VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT,
-                                          sizeof(gpu::DrawParams));
-  const detail::GraphicsPipelineDesc ground{LAVA_SPIRV(spirv::kGroundVertSpv),
+                                          sizeof(gpu::BackdropParams));
+  const detail::GraphicsPipelineDesc solids{LAVA_SPIRV(spirv::kGroundVertSpv),
                                             LAVA_SPIRV(spirv::kGroundFragSpv), formats.color,
                                             formats.depth};
-  m.pipeline = detail::createGraphicsPipeline(m.c, m.layout, ground);
+  m.pipeline = detail::createGraphicsPipeline(m.c, m.layout, solids);
 }
 
 Backdrop::~Backdrop() = default;
 
 void Backdrop::recordDraw(VkCommandBuffer commands, const View& view, const Scene& scene) const {
   const Impl& m = *impl_;
-  gpu::DrawParams params{};
-  params.viewProj = glm::make_mat4(view.viewProj.m);
-  params.style = detail::lineStyle(scene);
-  const Emitter& e = scene.emitters.at(0);
-  params.crater = glm::vec4(e.position.x, e.position.y, e.position.z, e.radius);
+  gpu::BackdropParams p{};
+  p.viewProj = glm::make_mat4(view.viewProj.m);
+  const Emitter& vent = scene.emitters.at(0);
+  p.vent = {vent.position.x, vent.position.y, vent.position.z, vent.radius};
+  p.eye = {view.eye.x, view.eye.y, view.eye.z, 0.0f};
   detail::setViewport(m.c, commands, view.extent);
   m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.pipeline);
-  m.c.vk.CmdPushConstants(commands, m.layout,
-                          VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                          sizeof(params), &params);
-  m.c.vk.CmdDraw(commands, gpu::kGroundVertices, 1, 0, 0);
+  const auto draw = [&](uint32_t kind, const Vec3& at, const glm::vec4& size, uint32_t vertices) {
+    p.solid = {at.x, at.y, at.z, float(kind)};
+    p.size = size;
+    m.c.vk.CmdPushConstants(commands, m.layout,
+                            VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                            sizeof(p), &p);
+    m.c.vk.CmdDraw(commands, vertices, 1, 0, 0);
+  };
+  draw(gpu::kSolidGround, {}, {}, gpu::kGroundVertices);
+  for (const Collider& c : scene.colliders) {
+    switch (c.type) {
+      case ColliderType::Cone:
+        draw(gpu::kSolidCone, c.position, {c.baseRadius, c.topRadius, c.height, 0.0f},
+             gpu::kConeVertices);
+        break;
+      case ColliderType::Sphere:
+        draw(gpu::kSolidSphere, c.position, {c.radius, 0.0f, 0.0f, 0.0f}, gpu::kSphereVertices);
+        break;
+      case ColliderType::Box:
+        draw(gpu::kSolidBox, c.position, {c.size.x, c.size.y, c.size.z, 0.0f}, gpu::kBoxVertices);
+        break;
+      case ColliderType::Plane: {
+        const glm::vec3 n = glm::normalize(glm::vec3(c.normal.x, c.normal.y, c.normal.z));
+        draw(gpu::kSolidPlane, c.position, {n, 0.0f}, gpu::kPlaneVertices);
+        break;
+      }
+    }
+  }
+  if (scene.colliders.empty() && vent.shape == Shape::Disc) {
+    // Scenery only: the crater of a scene without colliders (the seed scene's) is not solid.
+    const float top = std::max(vent.position.y, 0.05f);
+    const float rim = std::max(vent.radius, 0.05f) * 1.3f;
+    draw(gpu::kSolidCone, {vent.position.x, 0.0f, vent.position.z}, {rim + top * 1.8f, rim, top, 0.0f},
+         gpu::kConeVertices);
+  }
 }
 
 }  // namespace lava
