@@ -20,6 +20,7 @@
 #include "host/offscreen.h"
 #include "host/output.h"
 #include "lava/lava.h"
+#include "scene_panel.h"
 #include "shm_presenter.h"
 #include "swapchain.h"
 #include "ui.h"
@@ -380,44 +381,24 @@ class Demo {
 
     // Closed at start: the panel is drawn every frame, and on a CPU device a short panel
     // costs a fraction of a long one (docs/benchmarks.md).
-    if (ImGui::CollapsingHeader("scene parameters")) {
-      Scene s = scene_;
-      Emitter& e = s.emitters.at(0);
-      float rate = float(e.rate);
-      ImGui::SliderFloat("rate (1/s)", &rate, 0.0f, 100000.0f, "%.0f",
-                         ImGuiSliderFlags_Logarithmic);
-      e.rate = rate;
-      float dt = s.h();
-      ImGui::SliderFloat("dt (s)", &dt, 0.0001f, 0.01f, "%.4f", ImGuiSliderFlags_Logarithmic);
-      s.dt = dt;
-      ImGui::SliderFloat("gravity (m/s2)", &s.gravity, -20.0f, 30.0f);
-      ImGui::SliderFloat("restitution", &s.restitution, 0.0f, 1.0f);
-      ImGui::SliderFloat("friction (kept)", &s.friction, 0.0f, 1.0f);
-      ImGui::SliderFloat("line scale (s)", &s.lineScale, 0.0f, 0.2f);
-      ImGui::SliderFloat3("emitter (m)", &e.position.x, -3.0f, 3.0f);
-      ImGui::SliderFloat("emitter radius (m)", &e.radius, 0.0f, 2.0f);
-      ImGui::SliderFloat3("velocity (m/s)", &e.velocity.x, -15.0f, 15.0f);
-      ImGui::SliderFloat3("spread (m/s)", &e.spread.x, 0.0f, 8.0f);
-      ImGui::SliderFloat("mass (kg)", &e.mass, 0.05f, 20.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
-      ImGui::SliderFloat3("wind (N)", &s.wind.x, -10.0f, 10.0f);
-      ImGui::SliderFloat("drag (N s/m)", &s.drag, 0.0f, 5.0f);
-      int seed = int(s.seed & 0x7fffffff);
-      ImGui::InputInt("seed", &seed);
-      s.seed = uint32_t(std::max(seed, 0));
-      s.dt = std::max(s.dt, 1e-5);
-      e.mass = std::max(e.mass, 1e-3f);
-      try {
-        simulation_->setScene(s);
-        scene_ = s;
-      } catch (const InvalidArgument&) {
-        // A value the model does not accept (a slider's end): the scene stays as it was.
+    if (ImGui::CollapsingHeader("scene")) {
+      switch (panel_.draw(scene_)) {
+        case ScenePanel::Change::Live:
+          try {
+            simulation_->setScene(panel_.edited());
+            scene_ = panel_.edited();
+            panel_.setMessage("");
+          } catch (const Error& e) {
+            panel_.setMessage(e.what());  // an invalid value: the running scene stays
+          }
+          break;
+        case ScenePanel::Change::Structure:
+          panel_.setMessage("emitters or their capacities changed: restart to apply");
+          break;
+        case ScenePanel::Change::None:
+          break;
       }
-
-      ImGui::InputInt("particles", &pendingParticles_, 1024, 65536);
-      pendingParticles_ = std::clamp(pendingParticles_, 1,
-                                     int(std::min<uint64_t>(device_.maxParticles(), 1u << 30)));
-      ImGui::SameLine();
-      if (ImGui::Button("restart")) restart_ = true;
+      if (ImGui::Button("restart with this scene")) restart_ = true;
     }
     ImGui::TextDisabled("drag: orbit  right-drag: height  wheel: zoom  H: hide");
     ImGui::End();
@@ -435,9 +416,21 @@ class Demo {
     if (restart_ || reset_) {
       device_.waitIdle();
       if (restart_) {
-        scene_.emitters.at(0).particles = uint32_t(pendingParticles_);
-        simulation_.reset();
-        simulation_ = std::make_unique<GpuSimulation>(device_, scene_, simulationOptions());
+        try {
+          const Scene next = panel_.edited();
+          validate(next);
+          if (next.particles() > device_.maxParticles())
+            throw InvalidArgument(
+                "particles", "this device holds at most " + std::to_string(device_.maxParticles()));
+          simulation_.reset();
+          simulation_ = std::make_unique<GpuSimulation>(device_, next, simulationOptions());
+          scene_ = next;
+          panel_.setMessage("restarted");
+        } catch (const Error& e) {
+          panel_.setMessage(e.what());
+          if (!simulation_)
+            simulation_ = std::make_unique<GpuSimulation>(device_, scene_, simulationOptions());
+        }
       } else {
         simulation_->setState(initialState(scene_));
       }
@@ -545,7 +538,7 @@ class Demo {
   double owedSeconds_ = 0.0;
   double simulatedSeconds_ = 0.0;  // the steps' sizes summed (h may change in the panel)
   double fps_ = 0.0, simulateMs_ = 0.0, drawMs_ = 0.0;
-  int pendingParticles_ = int(options_.scene.emitters.at(0).particles);
+  ScenePanel panel_{options_.scene};
   uint32_t screenshots_ = 0;
 };
 

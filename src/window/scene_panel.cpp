@@ -1,0 +1,233 @@
+#include "scene_panel.h"
+
+#include <imgui.h>
+
+#include <cstdio>
+#include <fstream>
+
+#include "host/output.h"
+#include "lava/error.h"
+
+namespace lava::window {
+namespace {
+
+// Each editor writes its value back only when the user changed it (no clamping, no
+// rounding of what was loaded).
+bool edit(const char* label, float& value, float speed = 0.01f) {
+  float v = value;
+  if (!ImGui::DragFloat(label, &v, speed, 0.0f, 0.0f, "%.6g")) return false;
+  value = v;
+  return true;
+}
+
+bool edit(const char* label, double& value, double speed) {
+  double v = value;
+  if (!ImGui::DragScalar(label, ImGuiDataType_Double, &v, float(speed), nullptr, nullptr, "%.9g"))
+    return false;
+  value = v;
+  return true;
+}
+
+bool edit(const char* label, uint32_t& value, float speed = 1.0f) {
+  uint32_t v = value;
+  if (!ImGui::DragScalar(label, ImGuiDataType_U32, &v, speed, nullptr, nullptr, "%u")) return false;
+  value = v;
+  return true;
+}
+
+bool edit(const char* label, Vec3& value, float speed = 0.01f) {
+  float v[3] = {value.x, value.y, value.z};
+  if (!ImGui::DragFloat3(label, v, speed, 0.0f, 0.0f, "%.5g")) return false;
+  value = {v[0], v[1], v[2]};
+  return true;
+}
+
+template <typename E>
+bool choose(const char* label, E& value, int count) {
+  bool changed = false;
+  if (ImGui::BeginCombo(label, name(value))) {
+    for (int i = 0; i < count; ++i) {
+      const bool selected = value == E(i);
+      if (ImGui::Selectable(name(E(i)), selected)) {
+        changed = value != E(i);
+        value = E(i);
+      }
+    }
+    ImGui::EndCombo();
+  }
+  return changed;
+}
+
+}  // namespace
+
+bool sameStructure(const Scene& a, const Scene& b) {
+  if (a.emitters.size() != b.emitters.size()) return false;
+  for (size_t k = 0; k < a.emitters.size(); ++k)
+    if (a.emitters[k].particles != b.emitters[k].particles) return false;
+  return true;
+}
+
+bool ScenePanel::emitters() {
+  bool changed = false;
+  for (size_t k = 0; k < edited_.emitters.size(); ++k) {
+    Emitter& e = edited_.emitters[k];
+    ImGui::PushID(int(k));
+    const std::string title = "emitter " + std::to_string(k) + " (" + name(e.shape) + ")";
+    if (ImGui::TreeNode(title.c_str())) {
+      changed |= edit("particles", e.particles, 64.0f);
+      changed |= edit("rate (1/s)", e.rate, 10.0);
+      changed |= edit("burst", e.burst, 10.0f);
+      changed |= edit("burst interval (s)", e.burstInterval, 0.01);
+      changed |= choose("shape", e.shape, 4);
+      changed |= edit("position (m)", e.position);
+      if (e.shape == Shape::Disc || e.shape == Shape::Sphere)
+        changed |= edit("radius (m)", e.radius);
+      if (e.shape == Shape::Box) changed |= edit("half-extents (m)", e.size);
+      changed |= edit("velocity (m/s)", e.velocity, 0.05f);
+      changed |= edit("spread (m/s)", e.spread, 0.02f);
+      changed |= edit("mass (kg)", e.mass);
+      changed |= edit("lifetime (s)", e.lifetime);
+      if (edited_.emitters.size() > 1 && ImGui::SmallButton("remove emitter")) {
+        edited_.emitters.erase(edited_.emitters.begin() + long(k));
+        changed = true;
+        ImGui::TreePop();
+        ImGui::PopID();
+        break;
+      }
+      ImGui::TreePop();
+    }
+    ImGui::PopID();
+  }
+  if (edited_.emitters.size() < kMaxEmitters && ImGui::SmallButton("add emitter")) {
+    edited_.emitters.push_back(edited_.emitters.back());
+    changed = true;
+  }
+  return changed;
+}
+
+bool ScenePanel::forces() {
+  bool changed = false;
+  for (size_t i = 0; i < edited_.forces.size(); ++i) {
+    Force& f = edited_.forces[i];
+    ImGui::PushID(100 + int(i));
+    const std::string title = "force " + std::to_string(i) + " (" + name(f.type) + ")";
+    if (ImGui::TreeNode(title.c_str())) {
+      changed |= choose("type", f.type, 2);
+      changed |= edit("position (m)", f.position);
+      if (f.type == ForceType::Vortex) changed |= edit("axis", f.axis);
+      changed |= edit("strength", f.strength);
+      if (f.type == ForceType::Attractor) changed |= edit("radius (m, 0: all)", f.radius);
+      if (ImGui::SmallButton("remove force")) {
+        edited_.forces.erase(edited_.forces.begin() + long(i));
+        changed = true;
+        ImGui::TreePop();
+        ImGui::PopID();
+        break;
+      }
+      ImGui::TreePop();
+    }
+    ImGui::PopID();
+  }
+  if (edited_.forces.size() < kMaxForces && ImGui::SmallButton("add force")) {
+    edited_.forces.push_back(Force{});
+    changed = true;
+  }
+  return changed;
+}
+
+bool ScenePanel::colliders() {
+  bool changed = false;
+  for (size_t i = 0; i < edited_.colliders.size(); ++i) {
+    Collider& c = edited_.colliders[i];
+    ImGui::PushID(200 + int(i));
+    const std::string title = "collider " + std::to_string(i) + " (" + name(c.type) + ")";
+    if (ImGui::TreeNode(title.c_str())) {
+      changed |= choose("type", c.type, 4);
+      changed |= edit("position (m)", c.position);
+      switch (c.type) {
+        case ColliderType::Plane:
+          changed |= edit("normal", c.normal);
+          break;
+        case ColliderType::Sphere:
+          changed |= edit("radius (m)", c.radius);
+          break;
+        case ColliderType::Box:
+          changed |= edit("half-extents (m)", c.size);
+          break;
+        case ColliderType::Cone:
+          changed |= edit("base radius (m)", c.baseRadius);
+          changed |= edit("top radius (m)", c.topRadius);
+          changed |= edit("height (m)", c.height);
+          break;
+      }
+      changed |= edit("restitution", c.restitution);
+      changed |= edit("friction (kept)", c.friction);
+      if (ImGui::SmallButton("remove collider")) {
+        edited_.colliders.erase(edited_.colliders.begin() + long(i));
+        changed = true;
+        ImGui::TreePop();
+        ImGui::PopID();
+        break;
+      }
+      ImGui::TreePop();
+    }
+    ImGui::PopID();
+  }
+  if (edited_.colliders.size() < kMaxColliders && ImGui::SmallButton("add collider")) {
+    edited_.colliders.push_back(Collider{});
+    changed = true;
+  }
+  return changed;
+}
+
+ScenePanel::Change ScenePanel::draw(const Scene& running) {
+  bool changed = false;
+  changed |= edit("dt (s)", edited_.dt, 0.00001);
+  changed |= edit("gravity (m/s2)", edited_.gravity, 0.05f);
+  changed |= edit("ground restitution", edited_.restitution);
+  changed |= edit("ground friction (kept)", edited_.friction);
+  changed |= edit("wind (N)", edited_.wind, 0.05f);
+  changed |= edit("drag (N s/m)", edited_.drag);
+  changed |= edit("seed", edited_.seed);
+  changed |= edit("line scale (s)", edited_.lineScale, 0.001f);
+  changed |= choose("integrator", edited_.integrator, 3);
+  if (ImGui::TreeNode("emitters")) {
+    changed |= emitters();
+    ImGui::TreePop();
+  }
+  if (ImGui::TreeNode("forces")) {
+    changed |= forces();
+    ImGui::TreePop();
+  }
+  if (ImGui::TreeNode("colliders")) {
+    changed |= colliders();
+    ImGui::TreePop();
+  }
+  char path[512];
+  std::snprintf(path, sizeof(path), "%s", path_.c_str());
+  if (ImGui::InputText("file", path, sizeof(path))) path_ = path;
+  bool loaded = false;
+  if (ImGui::Button("load")) {
+    try {
+      edited_ = loadScene(path_);
+      message_ = "loaded " + path_;
+      loaded = true;
+    } catch (const Error& e) {
+      message_ = e.what();
+    }
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("save")) {
+    try {
+      host::writeFileAtomically(path_, toToml(edited_));
+      message_ = "saved " + path_;
+    } catch (const std::exception& e) {
+      message_ = e.what();
+    }
+  }
+  if (!message_.empty()) ImGui::TextWrapped("%s", message_.c_str());
+  if (!changed && !loaded) return Change::None;
+  return sameStructure(edited_, running) ? Change::Live : Change::Structure;
+}
+
+}  // namespace lava::window
