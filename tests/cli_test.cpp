@@ -30,13 +30,17 @@ std::string scratch(const std::string& name) {
   return ::testing::TempDir() + "lava_cli_" + std::to_string(getpid()) + "_" + name;
 }
 
+// Runs a shell command line, capturing its exit status and output.
+Result run(const std::string& command) {
+  const std::string out = scratch("stdout"), err = scratch("stderr");
+  const std::string line = command + " >" + out + " 2>" + err + " </dev/null";
+  const int raw = std::system(line.c_str());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw), readFile(out), readFile(err)};
+}
+
 // Runs build/lava with `args`; `prefix` goes before it (e.g. an `env` call).
 Result lava(const std::string& args, const std::string& prefix = "") {
-  const std::string out = scratch("stdout"), err = scratch("stderr");
-  const std::string command =
-      prefix + std::string(LAVA_EXE) + " " + args + " >" + out + " 2>" + err + " </dev/null";
-  const int raw = std::system(command.c_str());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw), readFile(out), readFile(err)};
+  return run(prefix + std::string(LAVA_EXE) + " " + args);
 }
 
 std::string writeScene(const std::string& name, const std::string& contents) {
@@ -292,6 +296,113 @@ TEST(Validate, SaysBitExactOnLavapipe) {
   const std::string table = readFile(csv);
   EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 7) << table;  // header + 6 checkpoints
   EXPECT_NE(table.find("3000,20000,20000,0,0,0"), std::string::npos) << table;
+}
+
+// A suite of two passing cases and a canary, which fails on purpose after step 150.
+const std::string kSuite = writeScene("suite.toml", R"(
+[[case]]
+name = "fountain"
+steps = 400
+particles = 3000
+rate = 2000
+[[case.collider]]
+type = "sphere"
+position = [0, 2, 0]
+radius = 0.5
+
+[[case]]
+name = "seed"
+steps = 300
+
+[[case]]
+name = "canary"
+steps = 300
+every = 100
+canary = 150
+)");
+
+int count(const std::string& text, const std::string& what) {
+  int n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+TEST(Suite, BuiltinPassesWithParsableReports) {
+  const std::string junit = scratch("builtin.xml"), results = scratch("builtin.csv");
+  const Result r = lava("validate --suite builtin --junit " + junit + " --results " + results);
+  EXPECT_EQ(r.status, 0) << r.out << r.err;
+  const std::string csv = readFile(results);
+  EXPECT_EQ(csv.substr(0, 55), "case,status,steps,first_divergent_step,max_ulp,seconds\n");
+  const int cases = count(csv, "\n") - 1;
+  EXPECT_GE(cases, 20);
+  EXPECT_EQ(count(csv, ",Pass,"), cases) << csv;
+  for (const char* module :
+       {"shape-sphere", "force-vortex", "collider-cone", "integrator-velocity-verlet", "bursts",
+        "lifetimes", "beyond-one-binding", "serial-crosses-2^32", "everything"})
+    EXPECT_NE(csv.find(std::string(module) + ",Pass"), std::string::npos) << module;
+  // The XML parses, with one testcase per case and the device among its properties.
+  const Result parsed =
+      run("/usr/bin/python3 -c \"import xml.etree.ElementTree as E; "
+          "t = E.parse('" +
+          junit +
+          "'); "
+          "print(len(t.findall('.//testcase')), len(t.findall('.//failure')), "
+          "t.find('.//property').get('value'))\"");
+  EXPECT_EQ(parsed.status, 0) << parsed.err;
+  EXPECT_EQ(parsed.out.substr(0, parsed.out.find(' ')), std::to_string(cases)) << parsed.out;
+  EXPECT_NE(parsed.out.find(" 0 llvmpipe"), std::string::npos) << parsed.out;
+}
+
+TEST(Suite, AFailureIsNamedAndBaselinesDecideTheExitStatus) {
+  const std::string junit = scratch("canary.xml"), results = scratch("canary.csv");
+  Result r = lava("validate --suite " + kSuite + " --junit " + junit + " --results " + results);
+  EXPECT_EQ(r.status, 1) << r.out;
+  const std::string xml = readFile(junit);
+  EXPECT_EQ(count(xml, "<testcase "), 3);
+  EXPECT_EQ(count(xml, "<failure "), 1);
+  for (const char* detail :
+       {"first divergent step 150", "particle 0 (emitter 0)", "field vy", "gpu 0x", "cpu 0x"})
+    EXPECT_NE(xml.find(detail), std::string::npos) << detail << "\n" << xml;
+  EXPECT_NE(readFile(results).find("canary,Fail,300,150,1,"), std::string::npos);
+  const std::string expected = writeScene("baseline.txt", "# known\ncanary,Fail\n");
+  r = lava("validate --suite " + kSuite + " --baseline " + expected + " --results " + results);
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(readFile(results).find("canary,ExpectedFail"), std::string::npos);
+  const std::string wrong = writeScene("baseline2.txt", "canary,Fail\nseed,Fail\n");
+  r = lava("validate --suite " + kSuite + " --baseline " + wrong + " --results " + results);
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(readFile(results).find("seed,UnexpectedPass"), std::string::npos);
+}
+
+TEST(Suite, RecordedHashesAgreeAndCatchAChangedSeed) {
+  const std::string recording = scratch("hashes.csv");
+  ASSERT_EQ(lava("validate --suite " + kSuite + " --record " + recording).status, 1);
+  EXPECT_EQ(readFile(recording).substr(0, 15), "case,step,hash\n");
+  Result r = lava("validate --suite " + kSuite + " --against " + recording);
+  EXPECT_EQ(r.status, 0) << r.out;  // GPU against GPU: the canary only nudges the CPU
+  r = lava("validate --suite " + kSuite + " --against " + recording + " --seed 5");
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("the recording has"), std::string::npos) << r.out;
+}
+
+TEST(Suite, BadSuitesAreUsageErrors) {
+  const std::pair<std::string, std::string> cases[] = {
+      {"[[case]]\nsteps = 10\n", "case[0].name"},
+      {"[[case]]\nname = \"a\"\n", "case[0].steps"},
+      {"[[case]]\nname = \"a\"\nsteps = 10\n[[case]]\nname = \"a\"\nsteps = 5\n", "twice"},
+      {"[[case]]\nname = \"a\"\nsteps = 10\nrestitution = 3\n", "case[0]: restitution"},
+      {"[[case]]\nname = \"a\"\nsteps = 10\nscene = \"/nonexistent.toml\"\n", "nonexistent"},
+      {"title = \"x\"\n", "title"},
+  };
+  for (const auto& [suite, mentions] : cases) {
+    const Result r = lava("validate --suite " + writeScene("bad-suite.toml", suite));
+    EXPECT_EQ(r.status, 2) << suite << r.err;
+    EXPECT_NE(r.err.find(mentions), std::string::npos) << suite << r.err;
+    EXPECT_EQ(count(r.err, "\n"), 1) << r.err;
+  }
+  EXPECT_EQ(lava("validate --steps 10 --junit " + scratch("x.xml")).status, 2);
+  EXPECT_EQ(lava("validate --suite builtin --steps 10").status, 2);
+  EXPECT_EQ(lava("validate --suite /nonexistent.toml").status, 2);
 }
 
 TEST(Render, WritesPngFrames) {

@@ -46,6 +46,8 @@ LAVA_API Comparison compare(const Scene& scene, const std::vector<Particle>& sub
 struct Checkpoint {
   uint64_t step;  // steps since the run began
   Comparison comparison;
+  uint64_t subjectHash = 0;    // stateHash() of each side's particles
+  uint64_t referenceHash = 0;
 };
 
 struct ValidationReport {

@@ -34,8 +34,9 @@ class Options {
   void addSceneFlags(Scene& scene, std::optional<unsigned>& device);
   // After CLI parsing: the scene file, then this command's values from it, then the flags.
   void resolve();
-  // Whether --name was given on the command line.
+  // Whether --name was given on the command line, and its text.
   bool given(const std::string& name) const;
+  const std::string& text(const std::string& name) const { return values_.at(name); }
 
  private:
   struct Spec {

@@ -21,8 +21,8 @@ struct Run {
   Integrator integrator;
   double dt;
   uint64_t steps;
-  double maxError;     // m, before the first ground contact
-  double energyRatio;  // E(T) / E(0)
+  double maxError;                                // m, before the first ground contact
+  double energyRatio;                             // E(T) / E(0)
   std::vector<std::pair<double, double>> energy;  // (t, E / E0) samples
 };
 
@@ -82,8 +82,8 @@ class StudyCommand final : public Command {
         "%g s, elastic ground; drag, wind, forces and colliders left out\n",
         double(e.position.x), double(e.position.y), double(e.position.z), double(e.velocity.x),
         double(e.velocity.y), double(e.velocity.z), double(scene_.gravity), seconds_);
-    std::printf("%-20s %9s %9s %18s %12s\n", "integrator", "dt (s)", "steps",
-                "max |x - x*| (m)", "E(T)/E(0)");
+    std::printf("%-20s %9s %9s %18s %12s\n", "integrator", "dt (s)", "steps", "max |x - x*| (m)",
+                "E(T)/E(0)");
     std::string table = "integrator,dt,steps,max_position_error,energy_ratio\n";
     std::string series = "integrator,dt,t,energy_ratio\n";
     for (Integrator integrator : integrators_)
@@ -138,17 +138,16 @@ class StudyCommand final : public Command {
     Run r{integrator, dt, s.stepsIn(seconds_), 0.0, 1.0, {}};
     const double g = s.gravity, h = s.h();
     const Vec3 x0 = e.position, v0 = e.velocity;
-    const double e0 = e.mass * (0.5 * (double(v0.x) * v0.x + double(v0.y) * v0.y +
-                                       double(v0.z) * v0.z) +
-                                g * x0.y);
+    const double e0 =
+        e.mass *
+        (0.5 * (double(v0.x) * v0.x + double(v0.y) * v0.y + double(v0.z) * v0.z) + g * x0.y);
     const uint64_t sampleEvery = std::max<uint64_t>(1, r.steps / 400);
     bool flying = true;
     for (uint64_t k = 1; k <= r.steps; ++k) {
       sim.advance(1);
       const Particle& p = sim.view().particles[0];
       const double t = double(k) * h;
-      const double exact[3] = {x0.x + v0.x * t, x0.y + v0.y * t - 0.5 * g * t * t,
-                               x0.z + v0.z * t};
+      const double exact[3] = {x0.x + v0.x * t, x0.y + v0.y * t - 0.5 * g * t * t, x0.z + v0.z * t};
       flying = flying && exact[1] > 0.0 && p.py > 0.0f;
       if (flying) {
         const double dx = p.px - exact[0], dy = p.py - exact[1], dz = p.pz - exact[2];

@@ -40,7 +40,8 @@ ValidationReport validate(Simulation& subject, Simulation& reference, uint64_t s
     reference.advance(batch);
     step += batch;
     State ours = subject.state(), theirs = reference.state();
-    const Checkpoint checkpoint{step, compare(reference.scene(), ours.particles, theirs.particles)};
+    const Checkpoint checkpoint{step, compare(reference.scene(), ours.particles, theirs.particles),
+                                stateHash(ours.particles), stateHash(theirs.particles)};
     report.checkpoints.push_back(checkpoint);
     if (onCheckpoint) onCheckpoint(checkpoint);
     report.pass = report.pass && checkpoint.comparison.maxUlp <= toleranceUlp;

@@ -1,0 +1,420 @@
+#include "suite.h"
+
+#define TOML_HEADER_ONLY 1
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "host/output.h"
+#include "lava/error.h"
+
+namespace lava::app {
+namespace {
+
+std::string folderOf(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? "." : path.substr(0, slash);
+}
+
+uint64_t integer(const std::string& where, const toml::node& node, uint64_t lo, uint64_t hi) {
+  const auto value = node.as_integer();
+  if (!value || value->get() < int64_t(lo) || uint64_t(value->get()) > hi)
+    throw host::UsageError(where + ": expected an integer in [" + std::to_string(lo) + ", " +
+                           std::to_string(hi) + "]");
+  return uint64_t(value->get());
+}
+
+std::string xmlEscaped(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+Case named(const std::string& name, Scene scene, uint64_t steps = 3000) {
+  Case c;
+  c.name = name;
+  c.scene = std::move(scene);
+  c.steps = steps;
+  c.every = steps / 3;
+  return c;
+}
+
+// The builtin cases' common ground: 20,000 slots of a lively fountain.
+Scene busy() {
+  Scene s;
+  Emitter& e = s.emitters[0];
+  e.particles = 20000;
+  e.rate = 7000.0;
+  e.position = {0.0f, 1.0f, 0.0f};
+  e.spread = {1.5f, 1.5f, 1.5f};
+  return s;
+}
+
+// The CPU reference with one bit wrong from step `at` on (see Case::canary).
+class Canary final : public Simulation {
+ public:
+  Canary(const Scene& scene, uint64_t at, unsigned threads)
+      : Simulation(scene), inner_(scene, threads), at_(at) {}
+  void advance(uint64_t steps) override {
+    const uint64_t step = inner_.view().step;
+    if (step >= at_ || step + steps < at_) return inner_.advance(steps);
+    inner_.advance(at_ - step);
+    State s = inner_.state();
+    for (Particle& p : s.particles)
+      if (p.age >= 0.0f) {
+        p.vy = std::nextafter(p.vy, 1e30f);
+        break;
+      }
+    inner_.setState(s);
+    inner_.advance(step + steps - at_);
+  }
+  State state() override { return inner_.state(); }
+  void setState(const State& state) override { inner_.setState(state); }
+  std::string name() const override { return "cpu reference with a canary"; }
+
+ private:
+  CpuSimulation inner_;
+  uint64_t at_;
+};
+
+}  // namespace
+
+std::unique_ptr<Simulation> referenceFor(const Scene& scene, std::optional<uint64_t> canary,
+                                         unsigned threads) {
+  if (canary) return std::make_unique<Canary>(scene, *canary, threads);
+  return std::make_unique<CpuSimulation>(scene, threads);
+}
+
+const char* statusName(Status status) {
+  switch (status) {
+    case Status::Pass:
+      return "Pass";
+    case Status::Fail:
+      return "Fail";
+    case Status::ExpectedFail:
+      return "ExpectedFail";
+    case Status::UnexpectedPass:
+      return "UnexpectedPass";
+  }
+  return "?";
+}
+
+std::vector<Case> loadSuite(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw host::UsageError("--suite: cannot read '" + path + "' (or give 'builtin')");
+  std::stringstream contents;
+  contents << file.rdbuf();
+  toml::table root;
+  try {
+    root = toml::parse(contents.str(), path);
+  } catch (const toml::parse_error& e) {
+    throw host::UsageError("--suite: " + path + ":" + std::to_string(e.source().begin.line) +
+                           ": not valid TOML (" + std::string(e.description()) + ")");
+  }
+  for (const auto& [key, node] : root)
+    if (key.str() != "case")
+      throw host::UsageError("--suite: " + path + ": " + std::string(key.str()) +
+                             ": unknown key (a suite holds [[case]] tables)");
+  const toml::array* cases = root["case"].as_array();
+  if (!cases || !cases->is_array_of_tables() || cases->empty())
+    throw host::UsageError("--suite: " + path + ": expected [[case]] tables");
+  std::vector<Case> out;
+  std::set<std::string> names;
+  for (size_t i = 0; i < cases->size(); ++i) {
+    toml::table table = *(*cases)[i].as_table();
+    const std::string at = path + ": case[" + std::to_string(i) + "]";
+    Case c;
+    const auto name = table["name"].value<std::string>();
+    if (!name || name->empty() || name->find_first_of(",\n\"") != std::string::npos)
+      throw host::UsageError(at + ".name: expected a name without commas or quotes");
+    c.name = *name;
+    if (!names.insert(c.name).second)
+      throw host::UsageError(at + ".name: '" + c.name + "' is used twice");
+    const toml::node* steps = table.get("steps");
+    if (!steps) throw host::UsageError(at + ".steps: required");
+    c.steps = integer(at + ".steps", *steps, 1, 1000000000);
+    if (const toml::node* every = table.get("every"))
+      c.every = integer(at + ".every", *every, 1, 1000000000);
+    if (const toml::node* tolerance = table.get("tolerance-ulp"))
+      c.toleranceUlp = uint32_t(integer(at + ".tolerance-ulp", *tolerance, 0, 0x80000000u));
+    if (const toml::node* serial = table.get("start-serial"))
+      c.startSerial = integer(at + ".start-serial", *serial, 0, uint64_t(INT64_MAX));
+    if (const toml::node* canary = table.get("canary"))
+      c.canary = integer(at + ".canary", *canary, 1, c.steps);
+    for (const char* meta : {"name", "steps", "every", "tolerance-ulp", "start-serial", "canary"})
+      table.erase(meta);
+    try {
+      if (const toml::node* scene = table.get("scene")) {
+        const auto sceneFile = scene->value<std::string>();
+        if (!sceneFile || sceneFile->empty() || table.size() != 1)
+          throw host::UsageError(at + ".scene: expected a file name, and no scene keys beside it");
+        c.scene =
+            loadScene(sceneFile->front() == '/' ? *sceneFile : folderOf(path) + "/" + *sceneFile);
+      } else {
+        std::ostringstream text;
+        text << toml::toml_formatter(table);
+        c.scene = parseScene(text.str(), at);
+      }
+      validate(c.scene);
+    } catch (const InvalidArgument& e) {
+      throw host::UsageError((e.parameter().rfind(at, 0) == 0 ? "" : at + ": ") +
+                             std::string(e.what()));
+    }
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+std::vector<Case> builtinSuite(const Device& device) {
+  std::vector<Case> cases;
+  cases.push_back(named("seed-scene", Scene{}));
+  for (Shape shape : {Shape::Point, Shape::Disc, Shape::Sphere, Shape::Box}) {
+    Scene s = busy();
+    s.emitters[0].shape = shape;
+    s.emitters[0].radius = 0.4f;
+    s.emitters[0].size = {0.5f, 0.2f, 0.3f};
+    cases.push_back(named(std::string("shape-") + name(shape), s));
+  }
+  {
+    Scene s = busy();
+    s.forces.push_back({ForceType::Attractor, {0.5f, 2.0f, 0.0f}, {}, 8.0f, 1.5f});
+    cases.push_back(named("force-attractor", s));
+    s.forces = {{ForceType::Vortex, {0.0f, 0.0f, 0.0f}, {0.0f, 1.5f, 0.2f}, 2.0f, 0.0f}};
+    cases.push_back(named("force-vortex", s));
+  }
+  for (ColliderType type :
+       {ColliderType::Plane, ColliderType::Sphere, ColliderType::Box, ColliderType::Cone}) {
+    Scene s = busy();
+    Collider c;
+    c.type = type;
+    c.position = type == ColliderType::Sphere  ? Vec3{0.3f, 2.5f, 0.0f}
+                 : type == ColliderType::Box   ? Vec3{-0.8f, 0.4f, 0.2f}
+                 : type == ColliderType::Plane ? Vec3{0.0f, 0.0f, -1.0f}
+                                               : Vec3{};
+    c.normal = {0.0f, 0.3f, 1.0f};
+    c.size = {0.4f, 0.4f, 0.5f};
+    c.baseRadius = 1.6f;
+    c.topRadius = 0.25f;
+    c.height = 0.9f;
+    c.restitution = 0.6f;
+    c.friction = 0.8f;
+    s.colliders.push_back(c);
+    cases.push_back(named(std::string("collider-") + name(type), s));
+  }
+  for (Integrator integrator : {Integrator::SemiImplicitEuler, Integrator::VelocityVerlet}) {
+    Scene s = busy();
+    s.integrator = integrator;
+    s.drag = 0.2f;
+    s.wind = {0.5f, 0.0f, -0.2f};
+    cases.push_back(named(std::string("integrator-") + name(integrator), s));
+  }
+  {
+    Scene s = busy();
+    s.emitters[0].particles = 97;
+    s.emitters[0].rate = 64000.0;  // 64 births per step into 97 slots: many wraps per dispatch
+    cases.push_back(named("ring-wraps-within-a-dispatch", s));
+    s = busy();
+    s.emitters[0].rate = 3333.3;
+    cases.push_back(named("fractional-rate", s));
+    s = busy();
+    s.emitters[0].burst = 4000;
+    s.emitters[0].burstInterval = 0.25;
+    cases.push_back(named("bursts", s));
+    s = busy();
+    s.emitters[0].lifetime = 0.6f;
+    cases.push_back(named("lifetimes", s));
+    s = Scene{};
+    s.gravity = 0.0f;
+    s.drag = 5.0f;
+    s.dt = 0.01;
+    s.emitters[0].velocity = {1.0f, 1.0f, 1.0f};
+    s.emitters[0].rate = 100.0;
+    cases.push_back(named("denormals-flushed", s, 2000));
+    s = busy();
+    s.emitters[0].rate = 50000.0;
+    Case serial = named("serial-crosses-2^32", s, 300);
+    serial.startSerial = (uint64_t{1} << 32) - 5000;
+    cases.push_back(serial);
+  }
+  {
+    // One slot past what a binding (and a dispatch, a texel view) holds on this device.
+    Scene s;
+    s.emitters[0].particles = device.particlesPerChunk() + 4096;
+    s.emitters[0].burst = s.emitters[0].particles;
+    if (s.particles() <= device.maxParticles()) cases.push_back(named("beyond-one-binding", s, 6));
+  }
+  {
+    Scene s = busy();
+    s.integrator = Integrator::VelocityVerlet;
+    s.drag = 0.1f;
+    s.wind = {0.4f, 0.0f, -0.3f};
+    s.emitters[0].lifetime = 1.5f;
+    Emitter second = s.emitters[0];
+    second.particles = 7000;
+    second.shape = Shape::Sphere;
+    second.position = {1.0f, 3.0f, 0.5f};
+    second.mass = 0.4f;
+    second.burst = 500;
+    second.burstInterval = 0.2;
+    Emitter third = s.emitters[0];
+    third.particles = 3000;
+    third.shape = Shape::Box;
+    third.size = {0.2f, 0.1f, 0.2f};
+    third.lifetime = 0.0f;
+    s.emitters.push_back(second);
+    s.emitters.push_back(third);
+    s.forces.push_back({ForceType::Attractor, {0.5f, 2.0f, 0.0f}, {}, 8.0f, 1.5f});
+    s.forces.push_back({ForceType::Vortex, {0.0f, 0.0f, 0.0f}, {0.0f, 1.5f, 0.2f}, 2.0f, 0.0f});
+    for (const Case& c : cases)
+      if (c.name.rfind("collider-", 0) == 0) s.colliders.push_back(c.scene.colliders.at(0));
+    cases.push_back(named("everything", s));
+  }
+  return cases;
+}
+
+Recording readRecording(const std::string& path) {
+  std::ifstream file(path);
+  if (!file) throw host::UsageError("--against: cannot read '" + path + "'");
+  Recording out;
+  std::string line;
+  std::getline(file, line);
+  if (line != "case,step,hash")
+    throw host::UsageError("--against: " + path + ": expected the header case,step,hash");
+  for (int number = 2; std::getline(file, line); ++number) {
+    if (line.empty()) continue;
+    const size_t a = line.find(','), b = line.rfind(',');
+    char* end = nullptr;
+    if (a == std::string::npos || a == b)
+      throw host::UsageError("--against: " + path + ":" + std::to_string(number) +
+                             ": expected case,step,hash");
+    const uint64_t step = std::strtoull(line.c_str() + a + 1, &end, 10);
+    const uint64_t hash = std::strtoull(line.c_str() + b + 1, &end, 16);
+    if (*end != '\0')
+      throw host::UsageError("--against: " + path + ":" + std::to_string(number) +
+                             ": expected a hexadecimal hash");
+    out[line.substr(0, a)][step] = hash;
+  }
+  return out;
+}
+
+std::string recordingText(const std::vector<CaseResult>& results) {
+  std::string out = "case,step,hash\n";
+  char line[256];
+  for (const CaseResult& r : results)
+    for (const auto& [step, hash] : r.hashes) {
+      std::snprintf(line, sizeof(line), "%s,%llu,%016llx\n", r.name.c_str(),
+                    static_cast<unsigned long long>(step), static_cast<unsigned long long>(hash));
+      out += line;
+    }
+  return out;
+}
+
+std::set<std::string> readBaseline(const std::string& path) {
+  std::ifstream file(path);
+  if (!file) throw host::UsageError("--baseline: cannot read '" + path + "'");
+  std::set<std::string> failing;
+  std::string line;
+  for (int number = 1; std::getline(file, line); ++number) {
+    if (line.empty() || line[0] == '#') continue;
+    const size_t comma = line.find(',');
+    if (comma == std::string::npos || line.substr(comma + 1) != "Fail")
+      throw host::UsageError("--baseline: " + path + ":" + std::to_string(number) +
+                             ": expected 'case,Fail', got '" + line + "'");
+    failing.insert(line.substr(0, comma));
+  }
+  return failing;
+}
+
+std::string resultsCsv(const std::vector<CaseResult>& results) {
+  std::string out = "case,status,steps,first_divergent_step,max_ulp,seconds\n";
+  char line[256];
+  for (const CaseResult& r : results) {
+    std::snprintf(line, sizeof(line), "%s,%s,%llu,%s,%u,%.3f\n", r.name.c_str(),
+                  statusName(r.status), static_cast<unsigned long long>(r.steps),
+                  r.firstDivergentStep ? std::to_string(*r.firstDivergentStep).c_str() : "",
+                  r.maxUlp, r.seconds);
+    out += line;
+  }
+  return out;
+}
+
+std::string junitXml(const std::vector<CaseResult>& results, const std::string& device,
+                     const std::string& driver, const std::string& floatControls) {
+  size_t failures = 0;
+  double seconds = 0.0;
+  for (const CaseResult& r : results) {
+    failures += r.status == Status::Fail || r.status == Status::UnexpectedPass;
+    seconds += r.seconds;
+  }
+  std::ostringstream out;
+  char time[32];
+  std::snprintf(time, sizeof(time), "%.3f", seconds);
+  out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+      << "<testsuites name=\"lava validate\" tests=\"" << results.size() << "\" failures=\""
+      << failures << "\" time=\"" << time << "\">\n"
+      << "  <testsuite name=\"lava\" tests=\"" << results.size() << "\" failures=\"" << failures
+      << "\" errors=\"0\" skipped=\"0\" time=\"" << time << "\">\n"
+      << "    <properties>\n"
+      << "      <property name=\"device\" value=\"" << xmlEscaped(device) << "\"/>\n"
+      << "      <property name=\"driver\" value=\"" << xmlEscaped(driver) << "\"/>\n"
+      << "      <property name=\"float-controls\" value=\"" << xmlEscaped(floatControls) << "\"/>\n"
+      << "    </properties>\n";
+  for (const CaseResult& r : results) {
+    std::snprintf(time, sizeof(time), "%.3f", r.seconds);
+    out << "    <testcase classname=\"lava.validate\" name=\"" << xmlEscaped(r.name) << "\" time=\""
+        << time << "\"";
+    if (r.status == Status::Fail || r.status == Status::UnexpectedPass) {
+      out << ">\n      <failure message=\"" << xmlEscaped(r.message) << "\" type=\""
+          << statusName(r.status) << "\">" << xmlEscaped(r.message) << "</failure>\n"
+          << "    </testcase>\n";
+    } else if (r.status == Status::ExpectedFail) {
+      out << ">\n      <system-out>expected to fail (baseline): " << xmlEscaped(r.message)
+          << "</system-out>\n    </testcase>\n";
+    } else {
+      out << "/>\n";
+    }
+  }
+  out << "  </testsuite>\n</testsuites>\n";
+  return out.str();
+}
+
+std::string divergenceMessage(const ValidationReport& report, uint32_t toleranceUlp) {
+  uint32_t maxUlp = 0;
+  for (const Checkpoint& c : report.checkpoints) maxUlp = std::max(maxUlp, c.comparison.maxUlp);
+  std::string text =
+      "max ULP " + std::to_string(maxUlp) + " > tolerance " + std::to_string(toleranceUlp);
+  if (report.firstDivergentStep)
+    text += "; first divergent step " + std::to_string(*report.firstDivergentStep);
+  if (report.firstDifference) {
+    const Difference& d = *report.firstDifference;
+    char detail[200];
+    std::snprintf(detail, sizeof(detail),
+                  ": particle %llu (emitter %u) field %s: gpu 0x%08x, cpu 0x%08x",
+                  static_cast<unsigned long long>(d.particle), d.emitter, fieldName(d.field),
+                  d.subjectBits, d.referenceBits);
+    text += detail;
+  }
+  return text;
+}
+
+}  // namespace lava::app
