@@ -1,0 +1,89 @@
+"""`import lava` (SPEC §9) against the `lava` program's own .npy files, on lavapipe with the
+validation layer (ctest sets PYTHONPATH, LAVA_EXE, VK_DRIVER_FILES and LAVA_VALIDATION)."""
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import lava
+
+LAVA = os.environ["LAVA_EXE"]
+SCENES = os.path.join(os.path.dirname(__file__), "..", "..", "scenes")
+
+
+def program(tmp_path, *args):
+    out = str(tmp_path / "state.npy")
+    subprocess.run([LAVA, "simulate", *args, "--out", out], check=True, capture_output=True)
+    return np.load(out)
+
+
+def test_simulate_matches_the_programs_npy_on_both_backends(tmp_path):
+    for backend in ("gpu", "cpu"):
+        state = lava.simulate(1500, backend=backend, emitter_radius=0.2, rate=3000)
+        assert state.dtype == np.float32 and state.shape == (5000, 7)
+        expected = program(tmp_path, "--steps", "1500", "--backend", backend,
+                           "--emitter-radius", "0.2", "--rate", "3000")
+        assert np.array_equal(state, expected)
+
+
+def test_gpu_and_cpu_are_bit_identical_with_every_module(tmp_path):
+    scene = os.path.join(SCENES, "volcano.toml")
+    gpu = lava.simulate(800, scene=scene, integrator="velocity-verlet")
+    cpu = lava.simulate(800, backend="cpu", scene=scene, integrator="velocity-verlet", threads=2)
+    assert gpu.tobytes() == cpu.tobytes()
+    assert np.array_equal(gpu, program(tmp_path, "--steps", "800", "--scene", scene,
+                                       "--integrator", "velocity-verlet"))
+
+
+def test_vectors_names_and_sequences_are_accepted():
+    state = lava.simulate(200, backend="cpu", emitter=(0.0, 1.0, 0.0), velocity=[1, 2, 3],
+                          spread=np.zeros(3), shape="box", particles=300, rate=50000)
+    alive = state[state[:, 6] >= 0]
+    assert len(alive) == 300
+    assert np.allclose(alive[:, 3], 1.0)  # no spread: every vx is exactly 1 (no drag, wind)
+
+
+def test_validate_reports_checkpoints_and_no_divergence():
+    report = lava.validate(1200, every=400, shape="sphere", emitter_radius=0.3)
+    assert report["passed"] is True
+    assert report["first_divergent_step"] is None
+    assert report["first_difference"] is None
+    assert [c["step"] for c in report["checkpoints"]] == [400, 800, 1200]
+    assert all(c["equal"] == c["particles"] == 5000 for c in report["checkpoints"])
+    assert all(c["max_ulp"] == 0 for c in report["checkpoints"])
+
+
+def test_simulation_advances_and_the_cpu_view_needs_no_copy():
+    sim = lava.Simulation("cpu", rate=2000)
+    sim.advance(300)
+    view = sim.particles
+    assert view.shape == (5000, 8) and not view.flags["OWNDATA"] and not view.flags["WRITEABLE"]
+    before = view[0].copy()
+    sim.advance(10)
+    assert sim.step == 310
+    assert not np.array_equal(view[0], before)  # the same memory, moved on
+    assert np.array_equal(sim.state(), lava.simulate(310, backend="cpu", rate=2000))
+    gpu = lava.Simulation("gpu", rate=2000)
+    gpu.advance(310)
+    assert np.array_equal(gpu.state(), sim.state())
+    assert np.array_equal(gpu.particles, np.array(view))
+    assert "rate = 2000" in gpu.scene_toml
+
+
+def test_bad_values_raise_value_error_naming_the_parameter():
+    for kwargs, name in [({"emitter_radius": -1}, "emitter_radius"), ({"restitution": 2}, "restitution"),
+                         ({"shape": "torus"}, "shape"), ({"wind": (1, 2)}, "wind"),
+                         ({"lava_temperature": 3}, "lava_temperature"), ({"mass": True}, "mass")]:
+        with pytest.raises(ValueError, match=name):
+            lava.simulate(10, backend="cpu", **kwargs)
+    with pytest.raises(ValueError, match="backend"):
+        lava.simulate(10, backend="tpu")
+    with pytest.raises(ValueError, match="scene"):
+        lava.simulate(10, scene="/nonexistent.toml")
+
+
+def test_a_scene_file_with_program_options_serves_python_too(tmp_path):
+    scene = tmp_path / "shared.toml"
+    scene.write_text("particles = 123\nsteps = 20\nframes = 2\n")
+    assert lava.simulate(20, backend="cpu", scene=str(scene)).shape == (123, 7)
