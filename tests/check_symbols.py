@@ -13,7 +13,8 @@ TOOLCHAIN = re.compile(
     r"^(_DYNAMIC|_GLOBAL_OFFSET_TABLE_|__FRAME_END__|__GNU_EH_FRAME_HDR|__TMC_END__|"
     r"__do_global_dtors_aux(_fini_array_entry)?|__dso_handle|__frame_dummy_init_array_entry|"
     r"_init|_fini|frame_dummy|register_tm_clones|deregister_tm_clones|completed\.\d+|"
-    r"__tcf_\d+|CSWTCH\.\d+|DW\.ref\..*|_GLOBAL__sub_I_.*|__bss_start|_edata|_end)$")
+    r"__tcf_\d+|CSWTCH\.\d+|DW\.ref\..*|_GLOBAL__sub_I_.*|__bss_start|_edata|_end|"
+    r"_sub_[DI]_\d+_\d+)$")  # the last: a sanitized build's module constructors
 STD_ABBREVIATIONS = ("St", "Sa", "Sb", "Ss", "Si", "So", "Sd")
 
 

@@ -7,6 +7,7 @@
 set -euo pipefail
 build=$1
 source=$2
+flags=${3:-}  # compiler flags the examples need too (a sanitized build's)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 prefix=$work/prefix
@@ -22,7 +23,7 @@ readelf -d "$library" | grep -q 'SONAME.*liblava.so.0' || { echo "FAIL: no SONAM
 
 for example in embed headless; do
   cmake -S "$source/examples/$example" -B "$work/$example" -DCMAKE_PREFIX_PATH="$prefix" \
-        -DCMAKE_BUILD_TYPE=Release >/dev/null
+        -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS="$flags" >/dev/null
   cmake --build "$work/$example" -j2 >/dev/null
   out=$("$work/$example/lava_$example")
   echo "$out"
@@ -31,7 +32,7 @@ echo "$out" | grep -q "bit-identical" || { echo "FAIL: headless did not compare"
 
 # One file and pkg-config, as a Makefile would do it.
 export PKG_CONFIG_PATH=$prefix/lib/pkgconfig
-flags=$(pkg-config --cflags --libs lava)
-c++ "$source/examples/headless/headless.cpp" $flags -Wl,-rpath,"$prefix/lib" -o "$work/one-file"
+c++ "$source/examples/headless/headless.cpp" $flags $(pkg-config --cflags --libs lava) \
+    -Wl,-rpath,"$prefix/lib" -o "$work/one-file"
 "$work/one-file"
 echo "PASS"

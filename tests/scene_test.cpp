@@ -56,7 +56,7 @@ TEST(SceneKeys, ValidateNamesTheTableEntry) {
   EXPECT_EQ(parameterOf([&] { validate(s); }), "particles");
 }
 
-TEST(SceneFile, FormatTwoTablesAndFlatKeys) {
+TEST(SceneToml, FormatTwoTablesAndFlatKeys) {
   const Scene s = parseScene(R"(
 format = 2
 dt = 0.002
@@ -96,7 +96,7 @@ height = 1
   EXPECT_EQ(flat.emitters[0].position.y, 2.0f);
 }
 
-TEST(SceneFile, BadDataNamesTheKeyAndTableIndex) {
+TEST(SceneToml, BadDataNamesTheKeyAndTableIndex) {
   const std::pair<const char*, const char*> cases[] = {
       {"[[collider]]\ntype = \"torus\"\n", "f: collider[0].type"},
       {"[[emitter]]\n[[emitter]]\nradius = -2\n", "f: emitter[1].radius"},
@@ -117,7 +117,7 @@ TEST(SceneFile, BadDataNamesTheKeyAndTableIndex) {
             "collider[0].normal");
 }
 
-TEST(SceneFile, ToTomlReadsBackExactly) {
+TEST(SceneToml, ToTomlReadsBackExactly) {
   Scene s;
   s.dt = 0.0013;
   s.gravity = 9.80665f;
