@@ -1,8 +1,12 @@
 #version 460
 // Dark basalt with a faint 1 m grid for scale on the ground, lit from above and warmed near
-// the vent; the solids in lit stone, a cone's mouth glowing molten.
+// the vent; the solids in lit stone, a cone's mouth glowing molten. The lava look shades in
+// linear energy and tone maps it as the lines are (lava_color.glsl), then encodes it for
+// the display: a night sky fading into a warm haze at the horizon, the rock lit by the
+// eruption (a light above the vent) and the mouth glowing.
 #extension GL_GOOGLE_include_directive : require
 #include "shared.h"
+#include "lava_color.glsl"
 
 layout(push_constant) uniform Push {
   BackdropParams b;
@@ -13,23 +17,43 @@ layout(location = 2) in float height;
 layout(location = 0) out vec4 outColor;
 
 void main() {
+  uint kind = uint(b.solid.w);
+  bool lava = b.eye.w == kLookLava;
+  if (kind == kSolidSky) {
+    vec3 zenith = vec3(0.0015, 0.0018, 0.006), haze = vec3(0.030, 0.011, 0.006);
+    vec3 sky = mix(haze, zenith, smoothstep(0.25, 1.0, height));
+    outColor = vec4(pow(lavaToneMap(sky), vec3(1.0 / 2.2)), 1.0);
+    return;
+  }
   vec3 n = normalize(normal);
   // A wall seen from behind is left out: the camera looks into a room through it.
-  if (uint(b.solid.w) == kSolidPlane && dot(n, b.eye.xyz - world) < 0.0) discard;
+  if (kind == kSolidPlane && dot(n, b.eye.xyz - world) < 0.0) discard;
   float light = 0.35 + 0.65 * max(dot(n, normalize(vec3(0.3, 1.0, 0.2))), 0.0);
-  uint kind = uint(b.solid.w);
   vec3 rock;
+  float mouth = 0.0;
   if (kind == kSolidGround) {
     rock = vec3(0.075, 0.065, 0.06) * light;
     vec2 cell = abs(fract(world.xz) - 0.5);
     rock += vec3(0.03) * step(0.485, max(cell.x, cell.y));
   } else if (kind == kSolidCone) {
     rock = vec3(0.16, 0.12, 0.10) * light;
-    rock += vec3(0.9, 0.25, 0.02) * smoothstep(0.75, 1.0, height);  // the molten mouth
+    mouth = smoothstep(0.75, 1.0, height);
   } else {
     rock = vec3(0.20, 0.19, 0.18) * light;
   }
   float near = exp(-length(world.xz - b.vent.xz) * 1.2);
-  rock += vec3(0.35, 0.07, 0.0) * near * (0.4 + max(world.y, 0.0));
-  outColor = vec4(rock, 1.0);
+  if (!lava) {
+    rock += vec3(0.35, 0.07, 0.0) * near * (0.4 + max(world.y, 0.0));
+    rock += vec3(0.9, 0.25, 0.02) * mouth;  // the molten rim
+    outColor = vec4(rock, 1.0);
+    return;
+  }
+  rock = pow(rock, vec3(2.2)) * 0.8;
+  vec3 toLight = b.vent.xyz + vec3(0.0, 0.35, 0.0) - world;
+  float d2 = dot(toLight, toLight);
+  float lit = max(dot(n, toLight * inversesqrt(max(d2, 1e-4))), 0.0) / (1.0 + 1.5 * d2);
+  rock += vec3(0.55, 0.16, 0.035) * lit;                     // lit by the eruption
+  rock += vec3(0.12, 0.025, 0.004) * near * near;             // embers around the vent
+  rock += vec3(2.4, 0.75, 0.08) * mouth * mouth;              // the glowing mouth
+  outColor = vec4(pow(lavaToneMap(rock), vec3(1.0 / 2.2)), 1.0);
 }

@@ -1,10 +1,43 @@
-// The color of a lava line: orange when slow, red when fast (seed §5), darker as it cools.
-// style: x line scale (s), y speed (m/s) of full red, z age (s) of the darkest.
+// The colour of a lava line. style: x line scale (s), y speed (m/s) of full red, z age (s)
+// of the darkest, w the look. Both looks: orange when slow, red when fast (seed §5), darker
+// as it cools.
 const vec3 kOrange = vec3(1.0, 0.55, 0.08);
 const vec3 kRed = vec3(0.95, 0.06, 0.02);
 
+// The plain look: the seed's solid colours, added (and clipped) in an 8-bit target.
 vec3 lavaColor(vec3 velocity, float age, vec4 style) {
   float hot = clamp(length(velocity) / style.y, 0.0, 1.0);
   float cooling = clamp(age / style.z, 0.0, 1.0);
   return mix(kOrange, kRed, hot) * mix(1.0, 0.3, cooling);
+}
+
+// The lava look's energy of a line per pixel of its length, red and green: fresh lava is
+// hot and yellow, cooling over style.z seconds through orange (slow) or red (fast) to a
+// dark crust that stays faintly visible.
+vec2 lavaEmission(vec3 velocity, float age, vec4 style) {
+  float fast = clamp(length(velocity) / style.y, 0.0, 1.0);
+  vec2 hue = mix(vec2(1.0, 0.42), vec2(1.0, 0.16), fast);       // orange slow, red fast
+  float heat = exp(-max(age, 0.0) * (3.0 / style.z));           // 1 at birth, 5% at style.z
+  hue = mix(hue, vec2(1.0, 0.6), smoothstep(0.6, 1.0, heat));   // yellow-hot when fresh
+  float crust = 0.06 + 0.08 * (1.0 - fast);                     // cooled rock glows dimly
+  return hue * (crust + 1.5 * heat * heat);
+}
+
+// Energy (red, green) to colour energy: blue follows from them, the same for every pass
+// (yellow-white lava gains a little, red lava none).
+vec3 lavaEnergy(vec2 rg) {
+  return vec3(rg, rg.r > 0.0 ? 0.15 * rg.g * rg.g / rg.r : 0.0);
+}
+
+// The lava look's tone map, per channel: T(x) ~ 1 - exp(-x), as (1 + x/16)^-16 (four
+// squarings and a division, cheap on every device). The targets hold T of the energy added
+// so far and lines are blended src (1 - dst) + dst, which keeps them at T of the sum: the
+// energy is unbounded, the colour never clips, and bright lava turns yellow, not white.
+vec3 lavaToneMap(vec3 x) {
+  vec3 g = 1.0 + max(x, vec3(0.0)) * (1.0 / 16.0);
+  g *= g;
+  g *= g;
+  g *= g;
+  g *= g;
+  return 1.0 - 1.0 / g;
 }

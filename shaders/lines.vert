@@ -1,6 +1,9 @@
 #version 460
 // Vertex pulling: vertex 2i is particle i's position x, vertex 2i+1 is x + s·v (seed eqs.
 // 8-9), read straight from the buffer step.comp writes. Unborn slots fall outside the clip.
+// The lava look stretches a line shorter than the shortest drawn (d.target.w pixels) to
+// it, keeping the energy of its true length, so that lava at rest stays visible, and gives
+// it its tone-mapped colour (lava_color.glsl).
 #extension GL_GOOGLE_include_directive : require
 #include "shared.h"
 #include "lava_color.glsl"
@@ -21,7 +24,28 @@ void main() {
     return;
   }
   vec3 v = q.velMass.xyz;
-  vec3 p = q.posAge.xyz + float(gl_VertexIndex & 1) * d.style.x * v;
-  gl_Position = d.viewProj * vec4(p, 1.0);
-  color = vec4(lavaColor(v, q.posAge.w, d.style), 1.0);
+  uint end = uint(gl_VertexIndex & 1);
+  if (d.style.w != kLookLava) {
+    vec3 p = q.posAge.xyz + float(end) * d.style.x * v;
+    gl_Position = d.viewProj * vec4(p, 1.0);
+    color = vec4(lavaColor(v, q.posAge.w, d.style), 1.0);
+    return;
+  }
+  vec4 a = d.viewProj * vec4(q.posAge.xyz, 1.0);
+  vec4 b = d.viewProj * vec4(q.posAge.xyz + d.style.x * v, 1.0);
+  float energy = 1.0;
+  if (a.w > 0.0 && b.w > 0.0) {
+    vec2 half_ = d.target.xy * 0.5;
+    vec2 along = (b.xy / b.w - a.xy / a.w) * half_;  // pixels
+    float length_ = sqrt(dot(along, along));
+    if (length_ < d.target.w) {  // stretched along its direction (or across the screen)
+      vec2 dir = length_ > 1e-4 ? along / length_ : vec2(1.0, 0.0);
+      vec2 tip = a.xy / a.w + dir * (d.target.w / half_);
+      b = vec4(tip * b.w, b.z, b.w);
+      energy = max(length_, 1.0) / d.target.w;
+    }
+  }
+  gl_Position = end == 0u ? a : b;
+  vec3 e = lavaEnergy(lavaEmission(v, q.posAge.w, d.style)) * (energy * d.target.z);
+  color = vec4(lavaToneMap(e), 1.0);
 }

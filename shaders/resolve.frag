@@ -1,7 +1,10 @@
 #version 460
-// Turns splat.comp's fixed-point sums into color, blended additively over the ground.
+// Turns splat.comp's fixed-point sums into colour over the scene: in the plain look the
+// seed's colour (blue a tint of red), added; in the lava look the energy tone mapped, for
+// the pipeline's blend src (1 - dst) + dst (lava_color.glsl).
 #extension GL_GOOGLE_include_directive : require
 #include "shared.h"
+#include "lava_color.glsl"
 
 layout(std430, binding = kResolveSumsBinding) restrict readonly buffer Accumulation {
   uint accumulation[];
@@ -13,9 +16,11 @@ layout(location = 0) out vec4 outColor;
 
 void main() {
   uvec2 p = uvec2(gl_FragCoord.xy);
-  uint sum = accumulation[p.y * s.target.x + p.x];
+  uint at = p.y * s.target.x + p.x;
+  uint sum = accumulation[at];
   if (sum == 0u) discard;
   float r = float(sum >> 16) / kSplatScale;
-  float g = float(sum & 0xffffu) / kSplatScale;
-  outColor = vec4(r, g, 0.06 * r, 1.0);
+  float g = float(sum & 0xFFFFu) / kSplatScale;
+  outColor = s.style.w == kLookLava ? vec4(lavaToneMap(lavaEnergy(vec2(r, g)) * s.look.x), 1.0)
+                                    : vec4(r, g, 0.06 * r, 1.0);
 }

@@ -44,6 +44,7 @@ const uint kSolidCone = 1u;    // kRoundSides side quads and a top cap fan
 const uint kSolidSphere = 2u;  // kRoundSides x kSphereRings quads
 const uint kSolidBox = 3u;     // 12 triangles
 const uint kSolidPlane = 4u;   // a square of 8 m in the plane
+const uint kSolidSky = 5u;     // one triangle over the screen, at the far plane
 const uint kRoundSides = 48u;
 const uint kSphereRings = 24u;
 const uint kGroundVertices = 6u;
@@ -155,33 +156,69 @@ struct StepParams {
   uvec4 chunk;  // x first particle (state index) of the bound chunk, y particles in it
 };
 
+// The two looks (DrawParams.style.w, BackdropParams.eye.w).
+const float kLookPlain = 0.0;  // the seed's: orange to red by speed, darker with age, added
+const float kLookLava = 1.0;   // molten rock: energy tone mapped as it is added, and glow
+
 // Push constants of lines.vert: camera and line style.
 struct DrawParams {
   mat4 viewProj;  // world (m) to Vulkan clip space
   vec4 style;     // x line scale s (s), y speed (m/s) at which a line is fully red,
-                  // z age (s) at which it has cooled to its darkest, w unused
+                  // z age (s) over which it cools, w the look
+  vec4 target;    // x width, y height (pixels), z exposure, w shortest line drawn (px)
 };
 
 // Push constants of ground.vert / ground.frag: one solid of the backdrop.
 struct BackdropParams {
   mat4 viewProj;  // as DrawParams
-  vec4 solid;     // xyz position (m): cone base centre, sphere or box centre, plane point;
-                  // w the kind (kSolidGround ...)
+  vec4 solid;     // xyz where the solid is (plane point, centre, cone base centre) (m),
+                  // w kSolidGround ... kSolidSky
   vec4 size;      // cone: x base radius, y top radius, z height; sphere: x radius; box: xyz
                   // half-extents; plane: xyz unit normal (m)
   vec4 vent;      // xyz the main vent (emitter 0) (m), w its radius: where the rock glows
-  vec4 eye;       // xyz the camera (m): a plane is seen from its normal's side only
+  vec4 eye;       // xyz the camera (m): a plane is seen from its normal's side only; w the
+                  // look (kLookPlain, kLookLava)
 };
 
 // Push constants of splat.comp and resolve.frag, the fast line renderer.
 struct SplatParams {
   mat4 viewProj;  // as DrawParams
   vec4 style;     // as DrawParams
-  uvec4 target;   // x width, y height (pixels), z particles in the bound range
+  uvec4 target;   // x width, y height (pixels), z particles in the bound range, w 1 when a
+                  // scene depth is bound to test against
+  vec4 look;      // x exposure
 };
-// Fixed-point scale of one line's color in the accumulation buffer (red in the high 16
-// bits, green in the low 16): about a thousand lines can overlap before green overflows.
-const float kSplatScale = 48.0f;
+// Fixed-point scale of one line's colour (lava: energy) in the splat's sums: red in the high
+// 16 bits, green in the low 16, each at most 1.7 a line (lava: red 1.64, green 1.0). A
+// pixel's red stops at kSplatFull (energy 390, far past where either look saturates: the
+// 64 adds that may race past it still fit), and green, never more than red, below it.
+const float kSplatScale = 128.0f;
+const uint kSplatFull = 50000u;
+const uint kSplatDepthBinding = 2u;  // the scene's depth, sampled (when target.w = 1)
+
+// The lava look's glow: bright lines spread light over cells of kGlowCell^2 pixels (glow.comp
+// adds each line's energy into its cell, blurs the cells, lists where there is light), drawn
+// as quads over the lit cells only (glow.vert, glow.frag).
+const uint kGlowCell = 16u;
+const uint kGlowParticlesBinding = 0u;  // glow.comp: the particles as texels
+const uint kGlowSumsBinding = 1u;       // the cells' energy, two planes of uint
+const uint kGlowLightBinding = 2u;      // after the blur: RG float per cell
+const uint kGlowListBinding = 3u;       // the quads to draw, and the draw's arguments
+const uint kGlowSumTexelsBinding = 4u;  // the sums again, as R32_UINT texels (for the blur)
+const uint kGlowDrawListBinding = 0u;   // glow.vert: the list
+const uint kGlowDrawLightBinding = 1u;  // glow.frag: the light, as RG32F texels
+const uint kGlowSplat = 0u;             // glow.comp's passes (specialization constant 1)
+const uint kGlowBlur = 1u;
+const uint kGlowList = 2u;
+struct GlowParams {
+  mat4 viewProj;  // as DrawParams
+  vec4 style;     // as DrawParams
+  uvec4 grid;     // x cells across, y cells down, z particles in the bound range, w stride:
+                  // every stride-th particle is added, its energy times stride
+  uvec4 target;   // x width, y height (pixels), z 1 for the first chunk's splat
+  vec4 glow;      // x threshold (energy per pixel below which nothing glows), y strength,
+                  // z exposure
+};
 
 // lowbias32 (C. Wellons): a stateless 32-bit integer mix with good avalanche.
 LAVA_FN uint hashMix(uint x) {
@@ -215,9 +252,10 @@ static_assert(sizeof(EmitterParams) == 96 && sizeof(ForceParams) == 48 &&
 static_assert(sizeof(SceneParams) == 32 + 16 * (96 + 48 + 80), "SceneParams as std140 lays it out");
 static_assert(offsetof(SceneParams, forces) == 32 + 16 * 96, "SceneParams members stay vec4s");
 static_assert(sizeof(StepParams) == 32, "StepParams fits any push-constant budget");
-static_assert(sizeof(DrawParams) == 80, "DrawParams must fit 128 bytes of push constants");
+static_assert(sizeof(DrawParams) == 96, "DrawParams must fit 128 bytes of push constants");
+static_assert(sizeof(GlowParams) == 128, "GlowParams must fit 128 bytes of push constants");
 static_assert(sizeof(BackdropParams) == 128, "BackdropParams must fit 128 bytes of push constants");
-static_assert(sizeof(SplatParams) == 96, "SplatParams must fit 128 bytes of push constants");
+static_assert(sizeof(SplatParams) == 112, "SplatParams must fit 128 bytes of push constants");
 }  // namespace lava::gpu
 #endif
 #undef LAVA_FN

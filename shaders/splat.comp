@@ -1,7 +1,9 @@
 #version 460
-// The fast line renderer: each alive particle walks its line x → x + s·v in screen space
-// and adds its color into a fixed-point accumulation buffer with atomics (additive glow).
-// Software rasterisers draw lines one primitive at a time; this is one invocation each.
+// The fast line renderer: each alive particle walks its line x -> x + s v in screen space
+// and adds its colour into a fixed-point buffer the size of the target with one atomic per
+// pixel (red in the high 16 bits, green in the low 16). Software rasterisers draw lines one primitive at a time; this is one invocation
+// each. With a scene depth bound, points of the line behind the scene are left out, as the
+// graphics pipeline's depth test does.
 #extension GL_GOOGLE_include_directive : require
 #include "shared.h"
 #include "lava_color.glsl"
@@ -14,17 +16,26 @@ layout(binding = kSplatParticleBinding) uniform samplerBuffer particles;
 layout(std430, binding = kSplatSumsBinding) restrict buffer Accumulation {
   uint accumulation[];
 };
+layout(binding = kSplatDepthBinding) uniform sampler2D sceneDepth;
 layout(push_constant) uniform Push {
   SplatParams s;
 };
 
 const uint kMaxPixels = 256u;  // longer lines are cut (they are rare and off-scale anyway)
 
+// Whether a point of the target at depth z lies behind the scene's depth there (a point off
+// the target is not).
+bool hidden(vec2 p, float z) {
+  ivec2 at = ivec2(floor(p));
+  if (any(lessThan(at, ivec2(0))) || any(greaterThanEqual(at, ivec2(s.target.xy)))) return false;
+  return z > texelFetch(sceneDepth, at, 0).r;
+}
+
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= s.target.z) return;
   Particle q = Particle(texelFetch(particles, int(2u * i)), texelFetch(particles, int(2u * i + 1u)));
-  if (q.posAge.w < 0.0) return;  // never emitted: draws nothing
+  if (q.posAge.w < 0.0) return;  // not alive: draws nothing
   vec3 v = q.velMass.xyz;
   vec4 a = s.viewProj * vec4(q.posAge.xyz, 1.0);
   vec4 b = s.viewProj * vec4(q.posAge.xyz + s.style.x * v, 1.0);
@@ -32,30 +43,44 @@ void main() {
   vec2 size = vec2(s.target.xy);
   vec2 pa = (a.xy / a.w * 0.5 + 0.5) * size;
   vec2 pb = (b.xy / b.w * 0.5 + 0.5) * size;
+  if (s.target.w != 0u && hidden(pa, a.z / a.w) && hidden(pb, b.z / b.w)) return;
+  bool lava = s.style.w == kLookLava;
+  vec2 color = lava ? lavaEmission(v, q.posAge.w, s.style) : lavaColor(v, q.posAge.w, s.style).rg;
   // Like a rasteriser's line: one pixel per pixel centre the line passes along its major
-  // axis, sampled at those centres (half-open, [a, b)), so a line shorter than a pixel, such
-  // as a particle resting on the ground, usually draws nothing, as in the graphics pipeline.
+  // axis, sampled at those centres (half-open, [a, b)), so a line shorter than a pixel draws
+  // nothing in the plain look, as in the graphics pipeline; the lava look draws it as one
+  // pixel with the energy of its length, as the ribbon's shortest line does.
   vec2 d = pb - pa;
   bool xMajor = abs(d.x) >= abs(d.y);
   float a0 = xMajor ? pa.x : pa.y, a1 = xMajor ? pb.x : pb.y;
   float m0 = xMajor ? pa.y : pa.x, m1 = xMajor ? pb.y : pb.x;
   float majorSize = float(xMajor ? s.target.x : s.target.y);
+  uint minorSize = xMajor ? s.target.y : s.target.x;
   // Clipped to the target along the major axis (in floats first: no int overflow).
   int first = int(ceil(clamp(min(a0, a1), 0.0, majorSize) - 0.5));
   int end = int(ceil(clamp(max(a0, a1), 0.0, majorSize) - 0.5));
-  if (end <= first) return;
-  uint n = min(uint(end - first), kMaxPixels);
-  float slope = (m1 - m0) / (a1 - a0);  // a1 != a0: at least one centre lies between them
+  uint n = end > first ? min(uint(end - first), kMaxPixels) : 0u;
+  float slope = n > 0u ? (m1 - m0) / (a1 - a0) : 0.0;  // a1 != a0 when a centre lies between
   float minor = m0 + (float(first) + 0.5 - a0) * slope;
-  uint minorSize = xMajor ? s.target.y : s.target.x;
-  vec3 c = lavaColor(v, q.posAge.w, s.style);
-  uint add = (uint(c.r * kSplatScale + 0.5) << 16) | uint(c.g * kSplatScale + 0.5);
+  if (n == 0u) {
+    if (!lava) return;
+    n = 1u;  // the lava look's shortest line: one pixel where the line starts
+    first = int(floor(a0));
+    minor = m0;
+    color *= max(length(d), 1.0);
+  }
+  uint add = (uint(color.r * kSplatScale + 0.5) << 16) | uint(color.g * kSplatScale + 0.5);
+  if (add == 0u) return;
   for (uint k = 0u; k < n; ++k, minor += slope) {
     uint major = uint(first) + k;
     uint across = uint(int(floor(minor)));  // negative wraps to huge: one unsigned test
-    if (across < minorSize) {
+    if (across < minorSize && major < uint(majorSize)) {
       uvec2 p = xMajor ? uvec2(major, across) : uvec2(across, major);
-      atomicAdd(accumulation[p.y * s.target.x + p.x], add);
+
+      uint at = p.y * s.target.x + p.x;
+      // A pixel full beyond any tone map is left as it is (what was added taken back): red
+      // stays below 2^16 and green, never more than red in either look, below red.
+      if ((atomicAdd(accumulation[at], add) >> 16) >= kSplatFull) atomicAdd(accumulation[at], -add);
     }
   }
 }

@@ -194,26 +194,30 @@ INSTANTIATE_TEST_SUITE_P(StepsPerDispatch, Embedding, ::testing::Values(1u, 7u, 
 using EmbeddingDraw = test::VulkanTest;
 
 TEST_F(EmbeddingDraw, LinesLandInAHostImageOfAnotherChannelOrder) {
-  // The same lines into RGBA and BGRA targets: the same pixels, with red and blue swapped.
+  // The same lines into RGBA and BGRA targets: the same pixels, with red and blue swapped,
+  // in both looks (the lava look's last pass writes the host's format).
   GpuSimulation simulation(device(), Scene{});
   simulation.advance(2500);
   const host::Submitter submitter(device());
   const OrbitCamera camera;
-  std::vector<uint8_t> images[2];
-  const VkFormat formats[2] = {VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_B8G8R8A8_UNORM};
-  for (int i = 0; i < 2; ++i) {
-    host::FrameRenderer renderer(device(), formats[i], 1);
-    const host::OffscreenTarget target(device(), {200, 150}, formats[i]);
-    images[i] = host::renderOffscreen(submitter, renderer, simulation, target, camera);
+  for (LookStyle style : {LookStyle::Plain, LookStyle::Lava}) {
+    SCOPED_TRACE(style == LookStyle::Lava ? "lava look" : "plain look");
+    std::vector<uint8_t> images[2];
+    const VkFormat formats[2] = {VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_B8G8R8A8_UNORM};
+    for (int i = 0; i < 2; ++i) {
+      host::FrameRenderer renderer(device(), formats[i], 1, style);
+      const host::OffscreenTarget target(device(), {200, 150}, formats[i]);
+      images[i] = host::renderOffscreen(submitter, renderer, simulation, target, camera);
+    }
+    size_t lit = 0;
+    for (size_t p = 0; p < images[0].size(); p += 4) {
+      ASSERT_EQ(images[0][p], images[1][p + 2]) << "pixel " << p / 4;
+      ASSERT_EQ(images[0][p + 1], images[1][p + 1]);
+      ASSERT_EQ(images[0][p + 2], images[1][p]);
+      lit += images[0][p] > 120;
+    }
+    EXPECT_GT(lit, 100u);
   }
-  size_t lit = 0;
-  for (size_t p = 0; p < images[0].size(); p += 4) {
-    ASSERT_EQ(images[0][p], images[1][p + 2]) << "pixel " << p / 4;
-    ASSERT_EQ(images[0][p + 1], images[1][p + 1]);
-    ASSERT_EQ(images[0][p + 2], images[1][p]);
-    lit += images[0][p] > 120;
-  }
-  EXPECT_GT(lit, 100u);
 }
 
 }  // namespace

@@ -51,8 +51,8 @@ class RenderTest : public test::VulkanTest {
   // One frame of `simulation` into a fresh offscreen target.
   std::vector<uint8_t> draw(const GpuSimulation& simulation, LineMode mode,
                             const OrbitCamera& camera) {
-    FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 1);
-    renderer.lines().setMode(mode);
+    FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 1, LookStyle::Plain);
+    renderer.setLineMode(mode);
     const OffscreenTarget target(device(), kSize);
     return host::renderOffscreen(*submitter_, renderer, simulation, target, camera);
   }
@@ -199,26 +199,26 @@ TEST_F(RenderTest, CachedGroundDrawsTheSameImage) {
   GpuSimulation simulation(device(), Scene{});
   simulation.advance(2000);
   for (LineMode mode : {LineMode::Lines, LineMode::Splat}) {
-    FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 1);
-    renderer.lines().setMode(mode);
+    FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 1, LookStyle::Plain);
+    renderer.setLineMode(mode);
     const OffscreenTarget target(device(), kSize);
     const auto drawn = host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
-    EXPECT_FALSE(renderer.groundWasCopied());
+    EXPECT_FALSE(renderer.backdropReused());
     // A fresh target: everything in it, depth included, must come from the copy.
     const OffscreenTarget fresh(device(), kSize);
     const auto copied = host::renderOffscreen(*submitter_, renderer, simulation, fresh, camera_);
-    EXPECT_TRUE(renderer.groundWasCopied());
+    EXPECT_TRUE(renderer.backdropReused());
     EXPECT_EQ(drawn, copied);
 
     OrbitCamera turned = camera_;
     turned.yaw += 0.5f;
     const auto turnedDrawn =
         host::renderOffscreen(*submitter_, renderer, simulation, target, turned);
-    EXPECT_FALSE(renderer.groundWasCopied());
+    EXPECT_FALSE(renderer.backdropReused());
     EXPECT_NE(turnedDrawn, drawn);
     const auto turnedCopied =
         host::renderOffscreen(*submitter_, renderer, simulation, target, turned);
-    EXPECT_TRUE(renderer.groundWasCopied());
+    EXPECT_TRUE(renderer.backdropReused());
     EXPECT_EQ(turnedDrawn, turnedCopied);
   }
 }
@@ -236,8 +236,8 @@ TEST_F(RenderTest, HostMemoryTargetDrawsTheSameImage) {
       std::aligned_alloc(OffscreenTarget::hostImportAlignment(device()), *bytes), &std::free);
   for (LineMode mode : {LineMode::Lines, LineMode::Splat}) {
     const auto expected = draw(simulation, mode, camera_);
-    FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 1);
-    renderer.lines().setMode(mode);
+    FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 1, LookStyle::Plain);
+    renderer.setLineMode(mode);
     const OffscreenTarget inHost(device(), kSize, OffscreenTarget::kColorFormat, host.get());
     EXPECT_TRUE(inHost.inHostMemory());
     EXPECT_EQ(inHost.mappedPixels(), host.get());

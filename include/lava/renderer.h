@@ -29,10 +29,23 @@ struct View {
   Vec3 eye;                 // the camera's position (m): walls are drawn from the front only
 };
 
-// How lines reach the target: the graphics pipeline (one LINE_LIST primitive per particle,
-// the reference), or splat, a compute pass that walks each line in screen space and adds it
-// into a buffer the size of the target (faster on CPU devices for many particles).
+// How lines reach the target: the graphics pipeline (the reference), or splat, a compute
+// pass that walks each line in screen space and adds it into a buffer the size of the
+// target (faster on CPU devices for many particles).
 enum class LineMode { Lines, Splat };
+
+// How lines look. Lava: molten rock, hot and yellow when fresh, orange when slow, red when
+// fast, cooling to a dark crust that stays visible (a line at rest is drawn at least
+// 1.25 px long), its energy tone mapped as it is added (the target holds 1 - exp(-energy):
+// dense lava turns yellow instead of clipping to white) and glowing into its surroundings;
+// over a Backdrop drawn in the same look. Plain: the seed's colours, added and clipped.
+enum class LookStyle { Lava, Plain };
+
+struct LookSettings {
+  float exposure = 1.0f;    // scales the lava's energy before the tone map, (0, 16]
+  float bloom = 1.0f;       // strength of the glow around bright lava, [0, 4] (0: none)
+  float threshold = 0.1f;   // energy per pixel (of a 16x16 cell) below which nothing glows
+};
 
 class LAVA_API LineRenderer {
  public:
@@ -43,6 +56,11 @@ class LAVA_API LineRenderer {
 
   void setMode(LineMode mode);
   LineMode mode() const;
+  // The lava look (the default) or the plain look; the look's settings.
+  void setStyle(LookStyle style);
+  LookStyle style() const;
+  void setSettings(const LookSettings& settings);
+  const LookSettings& settings() const;
   // Not a recording call: sizes the splat's per-frame buffers for targets of `extent`
   // (allocates; call it before recording for a new size, when no frame using the old
   // buffers is pending). recordPrepare() requires view.extent == the last setExtent().
@@ -50,14 +68,20 @@ class LAVA_API LineRenderer {
 
   // Outside rendering, after the simulation's recordSimulate():
   // a barrier from the particle writes (COMPUTE_SHADER / SHADER_WRITE) to this renderer's
-  // reads (VERTEX_SHADER and COMPUTE_SHADER / SHADER_READ); in splat mode, also frame
-  // slot `frame`'s splat pass (a fill, then compute), whose result is made visible to
-  // FRAGMENT_SHADER reads. Records only.
+  // reads (VERTEX_SHADER and COMPUTE_SHADER / SHADER_READ); in splat mode, frame slot
+  // `frame`'s splat pass (a fill, then compute); in the lava look, its glow passes (fills,
+  // then compute); their results made visible to the draw (DRAW_INDIRECT, VERTEX_SHADER,
+  // FRAGMENT_SHADER reads). `depth` (optional): a view of the scene's depth (the format
+  // given at construction) that the splat tests against as the pipeline's depth test
+  // does, in VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL, its writes made visible to
+  // COMPUTE_SHADER reads by the host. Records only.
   void recordPrepare(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
-                     const View& view);
+                     const View& view, VkImageView depth = VK_NULL_HANDLE);
   // Inside the host's dynamic rendering scope (vkCmdBeginRendering) with the formats given
-  // at construction: draws the lines additively, depth-tested against the depth attachment
-  // (not written). Sets viewport, scissor, pipeline and push constants. Records only.
+  // at construction (a UNORM colour target: the lava look blends src (1 - dst) + dst):
+  // draws the lines, depth-tested against the depth attachment (not written; it may be in
+  // DEPTH_STENCIL_READ_ONLY_OPTIMAL), then the glow. Sets viewport, scissor, pipeline and
+  // push constants. Records only.
   void recordDraw(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
                   const View& view) const;
 
@@ -77,8 +101,10 @@ class LAVA_API Backdrop {
   Backdrop(const Backdrop&) = delete;
   Backdrop& operator=(const Backdrop&) = delete;
 
-  // Inside dynamic rendering with the formats given at construction. Records only.
-  void recordDraw(VkCommandBuffer commands, const View& view, const Scene& scene) const;
+  // Inside dynamic rendering with the formats given at construction, the solids (and in
+  // the lava look first a sky), opaque, writing depth. Records only.
+  void recordDraw(VkCommandBuffer commands, const View& view, const Scene& scene,
+                  LookStyle style = LookStyle::Lava) const;
 
   struct Impl;
 

@@ -34,6 +34,7 @@ class DemoCommand final : public Command {
         "splat (compute) or lines (the graphics pipeline, the reference) "
         "[splat from 16384 particles, else lines]",
         [this](const std::string& src, const std::string& t) { lines_ = parseLineMode(src, t); });
+    addLookFlags(options_, look_);
     options_.add("warmup", "seconds simulated before the first frame, 0..600 [0]",
                  [this](const std::string& src, const std::string& t) {
                    demo_.warmup = parseNumber(src, t, 0, 600);
@@ -60,6 +61,8 @@ class DemoCommand final : public Command {
     options_.resolve();
     demo_.validation = validationRequested();
     if (!demo_.device) demo_.device = deviceOptions(demo_.device).index;
+    demo_.style = look_.style;
+    demo_.look = look_.settings;
     demo_.lines = lines_.value_or(defaultLineMode(demo_.scene.particles()));
     if (demo_.vsync && demo_.present == window::PresentPath::Shm)
       throw host::UsageError("--vsync: needs --present swapchain (MIT-SHM has no vsync)");
@@ -82,6 +85,7 @@ class DemoCommand final : public Command {
     plan.size = demo_.size;
     plan.folder = outputFolder("--out", out_);
     plan.lines = demo_.lines;
+    plan.look = look_;
     plan.warmup = demo_.warmup;
     Device device(deviceOptions(demo_.device));
     const double seconds = renderFrames(device, demo_.scene, plan);
@@ -97,6 +101,7 @@ class DemoCommand final : public Command {
  private:
   Options options_;
   window::DemoOptions demo_;
+  LookOptions look_;
   std::optional<LineMode> lines_;  // --renderer; unset: defaultLineMode
   bool headless_ = false;
   std::string out_ = "lava-demo-frames";

@@ -14,6 +14,7 @@
 #include "host/output.h"
 #include "lava/camera.h"
 #include "lava/simulation.h"
+#include "options.h"
 #include "runtime.h"
 
 namespace lava::app {
@@ -53,6 +54,33 @@ LineMode parseLineMode(const std::string& source, const std::string& text) {
   throw host::UsageError(source + ": expected lines or splat, got '" + text + "'");
 }
 
+void addLookFlags(Options& options, LookOptions& look) {
+  options.add("look",
+              "lava (molten rock: cooling crust, tone-mapped energy, glow) or plain (the "
+              "seed's added 1-pixel lines, for comparison) [lava]",
+              [&look](const std::string& src, const std::string& t) {
+                if (t == "lava")
+                  look.style = LookStyle::Lava;
+                else if (t == "plain")
+                  look.style = LookStyle::Plain;
+                else
+                  throw host::UsageError(src + ": expected lava or plain, got '" + t + "'");
+              });
+  options.add("exposure", "lava look: brightness before the tone map, (0, 16] [1]",
+              [&look](const std::string& src, const std::string& t) {
+                look.settings.exposure = float(parseNumber(src, t, 0, 16, true));
+              });
+  options.add("bloom", "lava look: strength of the glow around bright lava, 0..4 (0: none) [1]",
+              [&look](const std::string& src, const std::string& t) {
+                look.settings.bloom = float(parseNumber(src, t, 0, 4));
+              });
+  options.add("bloom-threshold",
+              "lava look: energy per pixel below which lava does not glow, 0..16 [0.1]",
+              [&look](const std::string& src, const std::string& t) {
+                look.settings.threshold = float(parseNumber(src, t, 0, 16));
+              });
+}
+
 LineMode defaultLineMode(uint64_t particles) {
   return particles >= kSplatFrom ? LineMode::Splat : LineMode::Lines;
 }
@@ -60,8 +88,9 @@ LineMode defaultLineMode(uint64_t particles) {
 double renderFrames(Device& device, const Scene& scene, const FramePlan& plan) {
   checkSize(device, plan.size);
   GpuSimulation simulation(device, scene);
-  host::FrameRenderer renderer(device, host::OffscreenTarget::kColorFormat, 1);
-  renderer.lines().setMode(plan.lines);
+  host::FrameRenderer renderer(device, host::OffscreenTarget::kColorFormat, 1, plan.look.style);
+  renderer.setLineMode(plan.lines);
+  renderer.setSettings(plan.look.settings);
   const host::OffscreenTarget target(device, plan.size);
   const host::Submitter submitter(device);
   OrbitCamera camera;

@@ -11,6 +11,15 @@
 
 namespace lava::app {
 
+class Options;
+
+// How frames look: --look, --exposure, --bloom.
+struct LookOptions {
+  LookStyle style = LookStyle::Lava;
+  LookSettings settings;
+};
+void addLookFlags(Options& options, LookOptions& look);
+
 struct FramePlan {
   uint32_t frames = 1;
   double fps = 30.0;  // frames per simulated second
@@ -18,6 +27,7 @@ struct FramePlan {
   double warmup = 3.0;  // seconds simulated before the first frame
   std::string folder;   // frame_00000.png ... go here
   LineMode lines = LineMode::Lines;
+  LookOptions look;
 };
 
 VkExtent2D parseSize(const std::string& source, const std::string& text);

@@ -52,6 +52,7 @@ class RenderCommand final : public Command {
                  [this](const std::string& src, const std::string& t) {
                    plan_.lines = parseLineMode(src, t);
                  });
+    addLookFlags(options_, plan_.look);
     options_.add(
         "video", "also encode FILE.mp4 with ffmpeg (must be installed)",
         [this](const std::string& src, const std::string& t) {

@@ -11,17 +11,25 @@ constexpr VkPipelineStageFlags kDepthStages =
     VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
 constexpr VkPipelineStageFlags kColorStage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
 
-// What shapes the ground and crater: they are redrawn when any of it changes.
-std::vector<float> craterOf(const Scene& scene) {
+// What the backdrop is drawn from: the view and every input of Backdrop::recordDraw. The
+// cached backdrop is redrawn when any of it changes.
+std::vector<float> backdropKey(const View& view, const Scene& scene, LookStyle style) {
+  std::vector<float> key(view.viewProj.m, view.viewProj.m + 16);
+  key.push_back(style == LookStyle::Lava ? 1.0f : 0.0f);
+  key.insert(key.end(), {view.eye.x, view.eye.y, view.eye.z});
   const Emitter& e = scene.emitters.at(0);
-  std::vector<float> key{e.position.x, e.position.y, e.position.z, e.radius};
+  key.insert(key.end(),
+             {e.position.x, e.position.y, e.position.z, e.radius, float(int(e.shape))});
   for (const Collider& c : scene.colliders)
-    if (c.type == ColliderType::Cone)
-      key.insert(key.end(),
-                 {c.position.x, c.position.y, c.position.z, c.baseRadius, c.topRadius, c.height});
+    key.insert(key.end(), {float(int(c.type)), c.position.x, c.position.y, c.position.z,
+                           c.normal.x, c.normal.y, c.normal.z, c.radius, c.size.x, c.size.y,
+                           c.size.z, c.baseRadius, c.topRadius, c.height});
   return key;
 }
 
+bool sameKey(const std::vector<float>& a, const std::vector<float>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
 // Discards `image` into `to` for its first use this frame; the previous frame's pass or
 // copy (WAW) and read-back (WAR) of it come first.
 void discardInto(VkCommandBuffer commands, VkImage image, VkImageAspectFlags aspect,
@@ -40,19 +48,6 @@ void toAttachment(VkCommandBuffer commands, VkImage image, VkImageAspectFlags as
   discardInto(
       commands, image, aspect,
       color ? VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-      color ? kColorStage : kDepthStages,
-      color ? VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT
-            : VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
-                  VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
-}
-
-// RAW: the attachment writes (or the copy) before, the stage named after.
-void fromTransferToAttachment(VkCommandBuffer commands, VkImage image, VkImageAspectFlags aspect) {
-  const bool color = aspect == kColor;
-  imageBarrier(
-      commands, image, aspect, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-      color ? VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
       color ? kColorStage : kDepthStages,
       color ? VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT
             : VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
@@ -80,7 +75,8 @@ F deviceFunction(const Device& device, const char* name, const char* khr) {
 
 }  // namespace
 
-FrameRenderer::FrameRenderer(Device& device, VkFormat colorFormat, uint32_t framesInFlight)
+FrameRenderer::FrameRenderer(Device& device, VkFormat colorFormat, uint32_t framesInFlight,
+                             LookStyle style)
     : device_(device),
       colorFormat_(colorFormat),
       backdrop_(device, {colorFormat, kDepthFormat}),
@@ -88,8 +84,12 @@ FrameRenderer::FrameRenderer(Device& device, VkFormat colorFormat, uint32_t fram
       cmdBeginRendering_(deviceFunction<PFN_vkCmdBeginRendering>(device, "vkCmdBeginRendering",
                                                                  "vkCmdBeginRenderingKHR")),
       cmdEndRendering_(deviceFunction<PFN_vkCmdEndRendering>(device, "vkCmdEndRendering",
-                                                             "vkCmdEndRenderingKHR")) {}
+                                                             "vkCmdEndRenderingKHR")) {
+  lines_.setStyle(style);
+}
 
+// `load`: the lines' pass over the backdrop, its depth tested against but kept (read-only,
+// as the splat samples it); else the backdrop's pass, cleared.
 void FrameRenderer::beginRendering(VkCommandBuffer commands, VkImageView color, VkImageView depth,
                                    VkExtent2D extent, bool load) const {
   VkRenderingAttachmentInfo colorAttachment{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
@@ -100,7 +100,9 @@ void FrameRenderer::beginRendering(VkCommandBuffer commands, VkImageView color, 
   colorAttachment.clearValue.color = {{0.012f, 0.010f, 0.018f, 1.0f}};
   VkRenderingAttachmentInfo depthAttachment = colorAttachment;
   depthAttachment.imageView = depth;
-  depthAttachment.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+  depthAttachment.imageLayout = load ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL
+                                     : VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+  depthAttachment.storeOp = load ? VK_ATTACHMENT_STORE_OP_NONE_KHR : VK_ATTACHMENT_STORE_OP_STORE;
   depthAttachment.clearValue.depthStencil = {1.0f, 0};
   VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
   info.renderArea = {{0, 0}, extent};
@@ -116,36 +118,32 @@ void FrameRenderer::resize(VkExtent2D extent) {
   device_.waitIdle();  // frames in flight may still read the per-size resources
   lines_.setExtent(extent);
   cache_ = {};
-  cache_.extent = extent;
   extent_ = extent;
 }
 
-bool FrameRenderer::prepareGround(VkCommandBuffer commands, const FrameTarget& target,
-                                  const View& view, const Scene& scene) {
-  GroundCache& c = cache_;
-  std::vector<float> crater = craterOf(scene);
-  const bool same =
-      std::memcmp(c.viewProj.m, view.viewProj.m, sizeof(c.viewProj.m)) == 0 && c.crater == crater;
-  if (!same) {  // a new view: drawn directly until it repeats
-    c.viewProj = view.viewProj;
-    c.crater = std::move(crater);
+bool FrameRenderer::copyBackdrop(VkCommandBuffer commands, const FrameTarget& target,
+                                 const View& view, const Scene& scene) {
+  BackdropCache& c = cache_;
+  std::vector<float> key = backdropKey(view, scene, lines_.style());
+  if (!sameKey(c.key, key)) {  // a new view: drawn directly until it repeats
+    c.key = std::move(key);
     c.drawn = false;
     return false;
   }
   if (!target.copyable) return false;
   if (!c.drawn) {
     if (!c.color.image) {
-      c.color = createImage(device_, c.extent, colorFormat_,
+      c.color = createImage(device_, extent_, colorFormat_,
                             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                             kColor);
       c.depth = createImage(
-          device_, c.extent, kDepthFormat,
+          device_, extent_, kDepthFormat,
           VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, kDepth);
     }
     toAttachment(commands, c.color.image, kColor);
     toAttachment(commands, c.depth.image, kDepth);
-    beginRendering(commands, c.color.view, c.depth.view, c.extent, false);
-    backdrop_.recordDraw(commands, view, scene);
+    beginRendering(commands, c.color.view, c.depth.view, extent_, false);
+    backdrop_.recordDraw(commands, view, scene, lines_.style());
     cmdEndRendering_(commands);
     // RAW: the copies into each frame read what the pass wrote.
     imageBarrier(commands, c.color.image, kColor, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
@@ -163,10 +161,17 @@ bool FrameRenderer::prepareGround(VkCommandBuffer commands, const FrameTarget& t
               VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
   discardInto(commands, target.depth, kDepth, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
               VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
-  copyImage(commands, c.color.image, target.color, kColor, c.extent);
-  copyImage(commands, c.depth.image, target.depth, kDepth, c.extent);
-  fromTransferToAttachment(commands, target.color, kColor);
-  fromTransferToAttachment(commands, target.depth, kDepth);
+  copyImage(commands, c.color.image, target.color, kColor, extent_);
+  copyImage(commands, c.depth.image, target.depth, kDepth, extent_);
+  // RAW: the lines' pass loads the colour; the splat and the depth test read the depth.
+  imageBarrier(commands, target.color, kColor, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+               VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_TRANSFER_BIT,
+               VK_ACCESS_TRANSFER_WRITE_BIT, kColorStage,
+               VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT);
+  imageBarrier(commands, target.depth, kDepth, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+               VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_TRANSFER_BIT,
+               VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | kDepthStages,
+               VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
   return true;
 }
 
@@ -177,14 +182,26 @@ void FrameRenderer::record(VkCommandBuffer commands, uint32_t frame,
   resize(target.extent);
   const View view{camera.viewProj(float(target.extent.width) / float(target.extent.height)),
                   target.extent, camera.eye()};
-  lines_.recordPrepare(commands, frame, simulation, view);
-  groundCopied_ = prepareGround(commands, target, view, simulation.scene());
-  if (!groundCopied_) {
+  backdropReused_ = copyBackdrop(commands, target, view, simulation.scene());
+  if (!backdropReused_) {
     toAttachment(commands, target.color, kColor);
     toAttachment(commands, target.depth, kDepth);
+    beginRendering(commands, target.colorView, target.depthView, target.extent, false);
+    backdrop_.recordDraw(commands, view, simulation.scene(), lines_.style());
+    cmdEndRendering_(commands);
+    // RAW: the lines' pass loads the colour; the splat and the depth test read the depth.
+    imageBarrier(commands, target.color, kColor, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                 VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, kColorStage,
+                 VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, kColorStage,
+                 VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT);
+    imageBarrier(commands, target.depth, kDepth, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                 VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL, kDepthStages,
+                 VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | kDepthStages,
+                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
   }
-  beginRendering(commands, target.colorView, target.depthView, target.extent, groundCopied_);
-  if (!groundCopied_) backdrop_.recordDraw(commands, view, simulation.scene());
+  lines_.recordPrepare(commands, frame, simulation, view, target.depthView);
+  beginRendering(commands, target.colorView, target.depthView, target.extent, true);
   lines_.recordDraw(commands, frame, simulation, view);
   cmdEndRendering_(commands);
   if (overlay) overlay(commands);

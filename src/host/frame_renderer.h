@@ -1,7 +1,8 @@
-// One frame of the `lava` program as a paragraph: the simulation's draw preparation, the
-// ground and crater (drawn once per view into images of its own and copied into each frame
-// while the view repeats: two memcpys on a CPU device instead of shading every pixel), the
-// lines, an overlay (the demo's panel), then the target's final layout.
+// One frame of the `lava` program as a paragraph: the backdrop (drawn once per view into
+// images of its own and copied into each frame while the view repeats: two memcpys on a
+// CPU device instead of shading every pixel), the simulation's draw preparation (the
+// splat, tested against the frame's depth, and the lava look's glow), the lines, an
+// overlay (the demo's panel), then the target's final layout. Both looks take this path.
 #pragma once
 #include <functional>
 #include <vector>
@@ -15,9 +16,17 @@ namespace lava::host {
 
 class FrameRenderer {
  public:
-  FrameRenderer(Device& device, VkFormat colorFormat, uint32_t framesInFlight);
+  FrameRenderer(Device& device, VkFormat colorFormat, uint32_t framesInFlight,
+                LookStyle style = LookStyle::Lava);
 
-  LineRenderer& lines() { return lines_; }
+  void setLineMode(LineMode mode) { lines_.setMode(mode); }
+  LineMode lineMode() const { return lines_.mode(); }
+  void setStyle(LookStyle style) { lines_.setStyle(style); }
+  LookStyle style() const { return lines_.style(); }
+  // Throws InvalidArgument naming a setting out of its range.
+  void setSettings(const LookSettings& settings) { lines_.setSettings(settings); }
+  const LookSettings& settings() const { return lines_.settings(); }
+
   // Records the frame into `target` (its color and depth images' previous contents are
   // discarded). `overlay` records with the color image in COLOR_ATTACHMENT_OPTIMAL and must
   // leave it there; it may begin a render pass of its own. A new target size waits for the
@@ -25,20 +34,18 @@ class FrameRenderer {
   void record(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
               const FrameTarget& target, const OrbitCamera& camera,
               const std::function<void(VkCommandBuffer)>& overlay = {});
-  // Whether the last record() copied the cached ground instead of drawing it (for tests).
-  bool groundWasCopied() const { return groundCopied_; }
+  // Whether the last record() copied the cached backdrop instead of drawing it (for tests).
+  bool backdropReused() const { return backdropReused_; }
 
  private:
-  struct GroundCache {
+  struct BackdropCache {
     Image color, depth;
-    VkExtent2D extent{0, 0};
-    Mat4 viewProj;
-    std::vector<float> crater;
+    std::vector<float> key;  // what it was drawn from (view, look, solids)
     bool drawn = false;
   };
   void resize(VkExtent2D extent);
-  bool prepareGround(VkCommandBuffer commands, const FrameTarget& target, const View& view,
-                     const Scene& scene);
+  bool copyBackdrop(VkCommandBuffer commands, const FrameTarget& target, const View& view,
+                    const Scene& scene);
   void beginRendering(VkCommandBuffer commands, VkImageView color, VkImageView depth,
                       VkExtent2D extent, bool load) const;
 
@@ -46,9 +53,9 @@ class FrameRenderer {
   VkFormat colorFormat_;
   Backdrop backdrop_;
   LineRenderer lines_;
-  GroundCache cache_;
+  BackdropCache cache_;
   VkExtent2D extent_{0, 0};
-  bool groundCopied_ = false;
+  bool backdropReused_ = false;
   PFN_vkCmdBeginRendering cmdBeginRendering_;
   PFN_vkCmdEndRendering cmdEndRendering_;
 };

@@ -117,7 +117,8 @@ OffscreenTarget::OffscreenTarget(const Device& device, VkExtent2D extent, VkForm
                          VK_IMAGE_ASPECT_COLOR_BIT)),
       depth_(createImage(
           device, extent, kDepthFormat,
-          VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | copyTargetUsage(device, kDepthFormat),
+          VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+              copyTargetUsage(device, kDepthFormat),
           VK_IMAGE_ASPECT_DEPTH_BIT)) {
   VkDevice handle = device.handles().device;
   VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
@@ -148,7 +149,8 @@ OffscreenTarget::OffscreenTarget(const Device& device, VkExtent2D extent, VkForm
       color_(importHostColorImage(device, extent, color, host)),
       depth_(
           createImage(device, extent, kDepthFormat,
-                      VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                      VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                          VK_IMAGE_USAGE_TRANSFER_DST_BIT,
                       VK_IMAGE_ASPECT_DEPTH_BIT)) {}
 
 FrameTarget OffscreenTarget::target() const {

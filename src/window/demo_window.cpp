@@ -152,7 +152,7 @@ class Demo {
                      : Surface()),
         format_(windowFormat(path_, device_, surface_.handle)),
         simulation_(std::make_unique<GpuSimulation>(device_, scene_, simulationOptions())),
-        renderer_(device_, format_.format, kFramesInFlight),
+        renderer_(device_, format_.format, kFramesInFlight, options.style),
         timestampMask_(timestampMask(device_)) {
     if (path_ == PresentPath::Shm)
       presenter_ = std::make_unique<ShmPresenter>(device_, window_.handle, kFramesInFlight);
@@ -160,7 +160,8 @@ class Demo {
       presenter_ = std::make_unique<Swapchain>(device_, surface_.handle, format_, options.vsync,
                                                kFramesInFlight);
     if (!presenter_->resize(framebufferSize())) throw NoDisplay("the window has no area");
-    renderer_.lines().setMode(options.lines);
+    renderer_.setLineMode(options.lines);
+    renderer_.setSettings(options.look);
     simulation_->advance(scene_.stepsIn(options.warmup));
     simulatedSeconds_ = double(scene_.stepsIn(options.warmup)) * double(scene_.h());
     glfwSetWindowUserPointer(window_.handle, this);
@@ -375,9 +376,20 @@ class Demo {
     ImGui::SameLine();
     if (ImGui::Button("screenshot [P]")) screenshot_ = true;
     ImGui::SliderFloat("speed", &speed_, 0.0f, 4.0f);
-    bool splat = renderer_.lines().mode() == LineMode::Splat;
+    bool splat = renderer_.lineMode() == LineMode::Splat;
     if (ImGui::Checkbox("compute line splatting (off: graphics pipeline)", &splat))
-      renderer_.lines().setMode(splat ? LineMode::Splat : LineMode::Lines);
+      renderer_.setLineMode(splat ? LineMode::Splat : LineMode::Lines);
+    bool lava = renderer_.style() == LookStyle::Lava;
+    if (ImGui::Checkbox("lava look (off: plain lines)", &lava))
+      renderer_.setStyle(lava ? LookStyle::Lava : LookStyle::Plain);
+    if (lava) {
+      LookSettings look = renderer_.settings();
+      bool changed = ImGui::SliderFloat("exposure", &look.exposure, 0.05f, 16.0f, "%.2f",
+                                        ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp);
+      changed |= ImGui::SliderFloat("bloom", &look.bloom, 0.0f, 4.0f, "%.2f",
+                                    ImGuiSliderFlags_AlwaysClamp);
+      if (changed) renderer_.setSettings(look);
+    }
 
     // Closed at start: the panel is drawn every frame, and on a CPU device a short panel
     // costs a fraction of a long one (docs/benchmarks.md).
@@ -441,8 +453,10 @@ class Demo {
     if (screenshot_) {
       screenshot_ = false;
       device_.waitIdle();
-      host::FrameRenderer offscreen(device_, host::OffscreenTarget::kColorFormat, 1);
-      offscreen.lines().setMode(renderer_.lines().mode());
+      host::FrameRenderer offscreen(device_, host::OffscreenTarget::kColorFormat, 1,
+                                    renderer_.style());
+      offscreen.setLineMode(renderer_.lineMode());
+      offscreen.setSettings(renderer_.settings());
       const host::OffscreenTarget target(device_, presenter_->extent());
       const host::Submitter submitter(device_);
       char name[64];

@@ -28,6 +28,8 @@ struct DemoOptions {
   std::optional<PresentPath> present;  // unset: MIT-SHM for CPU devices on X11, else swapchain
   bool exercise = false;  // resize, minimise and restore the window on a schedule (tests)
   LineMode lines = LineMode::Lines;
+  LookStyle style = LookStyle::Lava;
+  LookSettings look;
   double warmup = 0.0;  // seconds simulated before the first frame
   std::optional<unsigned> device;
   bool validation = false;

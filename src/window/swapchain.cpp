@@ -123,6 +123,7 @@ bool Swapchain::resize(VkExtent2D framebufferSize) {
   HOST_CHECK(vkGetSwapchainImagesKHR(device, swapchain_, &count, images_.data()));
   depth_ = host::createImage(device_, extent, host::kDepthFormat,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                                 VK_IMAGE_USAGE_SAMPLED_BIT |
                                  (copyable_ ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : 0),
                              VK_IMAGE_ASPECT_DEPTH_BIT);
   for (VkImage image : images_) {

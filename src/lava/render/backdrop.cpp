@@ -32,13 +32,15 @@ Backdrop::Backdrop(Device& device, const RenderFormats& formats)
 
 Backdrop::~Backdrop() = default;
 
-void Backdrop::recordDraw(VkCommandBuffer commands, const View& view, const Scene& scene) const {
+void Backdrop::recordDraw(VkCommandBuffer commands, const View& view, const Scene& scene,
+                          LookStyle style) const {
   const Impl& m = *impl_;
   gpu::BackdropParams p{};
   p.viewProj = glm::make_mat4(view.viewProj.m);
   const Emitter& vent = scene.emitters.at(0);
   p.vent = {vent.position.x, vent.position.y, vent.position.z, vent.radius};
-  p.eye = {view.eye.x, view.eye.y, view.eye.z, 0.0f};
+  const bool lava = style == LookStyle::Lava;
+  p.eye = {view.eye.x, view.eye.y, view.eye.z, lava ? gpu::kLookLava : gpu::kLookPlain};
   detail::setViewport(m.c, commands, view.extent);
   m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.pipeline);
   const auto draw = [&](uint32_t kind, const Vec3& at, const glm::vec4& size, uint32_t vertices) {
@@ -49,6 +51,7 @@ void Backdrop::recordDraw(VkCommandBuffer commands, const View& view, const Scen
                             sizeof(p), &p);
     m.c.vk.CmdDraw(commands, vertices, 1, 0, 0);
   };
+  if (lava) draw(gpu::kSolidSky, {}, {}, 3);
   draw(gpu::kSolidGround, {}, {}, gpu::kGroundVertices);
   for (const Collider& c : scene.colliders) {
     switch (c.type) {
@@ -73,8 +76,8 @@ void Backdrop::recordDraw(VkCommandBuffer commands, const View& view, const Scen
     // Scenery only: the crater of a scene without colliders (the seed scene's) is not solid.
     const float top = std::max(vent.position.y, 0.05f);
     const float rim = std::max(vent.radius, 0.05f) * 1.3f;
-    draw(gpu::kSolidCone, {vent.position.x, 0.0f, vent.position.z}, {rim + top * 1.8f, rim, top, 0.0f},
-         gpu::kConeVertices);
+    draw(gpu::kSolidCone, {vent.position.x, 0.0f, vent.position.z},
+         {rim + top * 0.9f, rim, top, 0.0f}, gpu::kConeVertices);
   }
 }
 

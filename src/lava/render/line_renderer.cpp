@@ -1,6 +1,8 @@
 // LineRenderer: each alive particle's line, by the graphics pipeline (lines.vert pulls both
-// ends from the particle buffer) or by the splat (splat.comp adds every line into a
-// fixed-point buffer the size of the target; resolve.frag blends it over the scene).
+// ends from the particle buffer as a LINE_LIST) or by the splat (splat.comp adds every line
+// into fixed-point planes the size of the target; resolve.frag puts them over the scene);
+// in the lava look, then the glow (glow.comp over cells of the screen, glow.vert/.frag over
+// the lit cells only).
 #include "lava/renderer.h"
 
 #include <glm/gtc/type_ptr.hpp>
@@ -10,6 +12,7 @@
 #include "shared.h"
 #include "style.h"
 #include "vulkan/buffer.h"
+#include "vulkan/check.h"
 #include "vulkan/commands.h"
 #include "vulkan/pipeline.h"
 #include "vulkan/shaders.h"
@@ -18,19 +21,46 @@ namespace lava {
 
 using detail::Buffer;
 
+namespace {
+
+constexpr float kShortestLine = 1.25f;  // px: lava at rest stays visible
+// Particles the glow adds per frame at most: beyond, every stride-th, its energy times the
+// stride (the glow is a blur; a sample of its sources is enough).
+constexpr uint32_t kGlowSamples = 16384;
+
+// Per frame slot, what the glow passes write.
+struct GlowSlot {
+  Buffer sums, light, list;
+  detail::UniqueBufferView lightTexels, sumTexels;
+};
+
+}  // namespace
+
 struct LineRenderer::Impl {
   detail::DeviceContext& c;
   RenderFormats formats;
   uint32_t framesInFlight;
   LineMode mode = LineMode::Lines;
-  detail::UniqueDescriptorSetLayout lineSet, splatSet, resolveSet;
-  detail::UniquePipelineLayout lineLayout, splatLayout, resolveLayout;
-  detail::UniquePipeline linePipeline, splatPipeline, resolvePipeline;
+  LookStyle style = LookStyle::Lava;
+  LookSettings settings;
+  detail::UniqueSampler nearest;
+  detail::UniqueDescriptorSetLayout lineSet, splatSet, resolveSet, glowSet, glowDrawSet;
+  detail::UniquePipelineLayout lineLayout, splatLayout, resolveLayout, glowLayout, glowDrawLayout;
+  detail::UniquePipeline plainLines, lavaLines, splatPipeline, plainResolve, lavaResolve, glowDraw;
+  detail::UniquePipeline glowSplat, glowBlur, glowList;
+  detail::Image noDepth;  // 1x1, bound when the splat is given no scene depth
   VkExtent2D extent{0, 0};
-  std::vector<Buffer> accumulation;  // per frame slot: the splat's sums, one uint per pixel
+  glm::uvec2 grid{0, 0};             // glow cells across and down
+  std::vector<Buffer> accumulation;  // per frame slot: the splat's sums
+  std::vector<GlowSlot> glow;
 
   Impl(detail::DeviceContext& context, const RenderFormats& f, uint32_t frames)
       : c(context), formats(f), framesInFlight(frames) {}
+
+  void recordSplat(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
+                   const View& view, VkImageView depth) const;
+  void recordGlow(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
+                  const View& view) const;
 };
 
 LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_t framesInFlight)
@@ -41,8 +71,8 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_
   Impl& m = *impl_;
   const detail::DeviceContext& c = m.c;
   const VkShaderStageFlags drawStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-  m.lineSet =
-      detail::createPushLayout(c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, VK_SHADER_STAGE_VERTEX_BIT);
+  m.lineSet = detail::createPushLayout(c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                                       VK_SHADER_STAGE_VERTEX_BIT);
   m.lineLayout = detail::createPipelineLayout(c, m.lineSet, drawStages, sizeof(gpu::DrawParams));
   detail::GraphicsPipelineDesc lines{LAVA_SPIRV(spirv::kLinesVertSpv),
                                      LAVA_SPIRV(spirv::kLinesFragSpv), formats.color,
@@ -50,15 +80,22 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_
   lines.topology = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
   lines.additive = true;
   lines.depthWrite = false;  // glowing lines do not occlude
-  m.linePipeline = detail::createGraphicsPipeline(c, m.lineLayout, lines);
+  m.plainLines = detail::createGraphicsPipeline(c, m.lineLayout, lines);
+  lines.additive = false;
+  lines.screen = true;
+  m.lavaLines = detail::createGraphicsPipeline(c, m.lineLayout, lines);
 
+  m.nearest = detail::createSampler(c, VK_FILTER_NEAREST);
   m.splatSet = detail::createPushLayout(
-      c, {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-      VK_SHADER_STAGE_COMPUTE_BIT);
+      c,
+      {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+       VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
+      VK_SHADER_STAGE_COMPUTE_BIT, m.nearest);
   m.splatLayout = detail::createPipelineLayout(c, m.splatSet, VK_SHADER_STAGE_COMPUTE_BIT,
                                                sizeof(gpu::SplatParams));
-  m.splatPipeline = detail::createComputePipeline(
-      c, m.splatLayout, LAVA_SPIRV(spirv::kSplatCompSpv), {gpu::kWorkgroupSize});
+  m.splatPipeline = detail::createComputePipeline(c, m.splatLayout,
+                                                  LAVA_SPIRV(spirv::kSplatCompSpv),
+                                                  {gpu::kWorkgroupSize});
   m.resolveSet = detail::createPushLayout(c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
                                           VK_SHADER_STAGE_FRAGMENT_BIT);
   m.resolveLayout = detail::createPipelineLayout(c, m.resolveSet, VK_SHADER_STAGE_FRAGMENT_BIT,
@@ -69,7 +106,48 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_
   resolve.additive = true;
   resolve.depthTest = false;
   resolve.depthWrite = false;
-  m.resolvePipeline = detail::createGraphicsPipeline(c, m.resolveLayout, resolve);
+  m.plainResolve = detail::createGraphicsPipeline(c, m.resolveLayout, resolve);
+  resolve.additive = false;
+  resolve.screen = true;
+  m.lavaResolve = detail::createGraphicsPipeline(c, m.resolveLayout, resolve);
+
+  m.glowSet = detail::createPushLayout(
+      c,
+      {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+       VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+       VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+      VK_SHADER_STAGE_COMPUTE_BIT);
+  m.glowLayout = detail::createPipelineLayout(c, m.glowSet, VK_SHADER_STAGE_COMPUTE_BIT,
+                                              sizeof(gpu::GlowParams));
+  m.glowSplat = detail::createComputePipeline(c, m.glowLayout, LAVA_SPIRV(spirv::kGlowCompSpv),
+                                              {gpu::kWorkgroupSize, gpu::kGlowSplat});
+  m.glowBlur = detail::createComputePipeline(c, m.glowLayout, LAVA_SPIRV(spirv::kGlowCompSpv),
+                                             {gpu::kWorkgroupSize, gpu::kGlowBlur});
+  m.glowList = detail::createComputePipeline(c, m.glowLayout, LAVA_SPIRV(spirv::kGlowCompSpv),
+                                             {gpu::kWorkgroupSize, gpu::kGlowList});
+  m.glowDrawSet = detail::createPushLayout(
+      c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+      drawStages);
+  m.glowDrawLayout =
+      detail::createPipelineLayout(c, m.glowDrawSet, drawStages, sizeof(gpu::GlowParams));
+  detail::GraphicsPipelineDesc glowDraw{LAVA_SPIRV(spirv::kGlowVertSpv),
+                                        LAVA_SPIRV(spirv::kGlowFragSpv), formats.color,
+                                        formats.depth};
+  glowDraw.screen = true;
+  glowDraw.depthTest = false;
+  glowDraw.depthWrite = false;
+  m.glowDraw = detail::createGraphicsPipeline(c, m.glowDrawLayout, glowDraw);
+
+  m.noDepth = detail::createImage(
+      c, {1, 1}, VK_FORMAT_D32_SFLOAT,
+      VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+      VK_IMAGE_ASPECT_DEPTH_BIT);
+  c.submitNow([&](VkCommandBuffer commands) {
+    detail::imageBarrier(c, commands, m.noDepth.image, VK_IMAGE_ASPECT_DEPTH_BIT,
+                         VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+                         VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         VK_ACCESS_SHADER_READ_BIT);
+  });
 }
 
 LineRenderer::~LineRenderer() = default;
@@ -82,27 +160,92 @@ LineMode LineRenderer::mode() const {
   return impl_->mode;
 }
 
+void LineRenderer::setStyle(LookStyle style) {
+  impl_->style = style;
+}
+
+LookStyle LineRenderer::style() const {
+  return impl_->style;
+}
+
+void LineRenderer::setSettings(const LookSettings& s) {
+  if (!(s.exposure > 0.0f && s.exposure <= 16.0f))
+    throw InvalidArgument("exposure", "expected (0, 16], got " + std::to_string(s.exposure));
+  if (!(s.bloom >= 0.0f && s.bloom <= 4.0f))
+    throw InvalidArgument("bloom", "expected [0, 4], got " + std::to_string(s.bloom));
+  if (!(s.threshold >= 0.0f && s.threshold <= 16.0f))
+    throw InvalidArgument("threshold", "expected [0, 16], got " + std::to_string(s.threshold));
+  impl_->settings = s;
+}
+
+const LookSettings& LineRenderer::settings() const {
+  return impl_->settings;
+}
+
 void LineRenderer::setExtent(VkExtent2D extent) {
   Impl& m = *impl_;
   if (extent.width == m.extent.width && extent.height == m.extent.height) return;
   if (extent.width == 0 || extent.height == 0)
     throw InvalidArgument("extent", "expected a non-empty size");
   m.accumulation.clear();
-  for (uint32_t f = 0; f < m.framesInFlight; ++f)
+  m.glow.clear();
+  m.grid = {(extent.width + gpu::kGlowCell - 1) / gpu::kGlowCell,
+            (extent.height + gpu::kGlowCell - 1) / gpu::kGlowCell};
+  const VkDeviceSize cells = VkDeviceSize{m.grid.x} * m.grid.y;
+  const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  for (uint32_t f = 0; f < m.framesInFlight; ++f) {
     m.accumulation.emplace_back(
         m.c, VkDeviceSize{extent.width} * extent.height * sizeof(uint32_t),
-        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-        detail::MemoryUse::Device);
+        storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, detail::MemoryUse::Device);
+    GlowSlot g;
+    g.sums = Buffer(m.c, 2 * cells * sizeof(uint32_t),
+                    storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                        VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                    detail::MemoryUse::Device);
+    g.sumTexels = detail::createTexelView(m.c, g.sums.get(), VK_WHOLE_SIZE, VK_FORMAT_R32_UINT);
+    g.light = Buffer(m.c, cells * 2 * sizeof(float),
+                     storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, detail::MemoryUse::Device);
+    g.lightTexels =
+        detail::createTexelView(m.c, g.light.get(), VK_WHOLE_SIZE, VK_FORMAT_R32G32_SFLOAT);
+    const VkDeviceSize quads = VkDeviceSize{m.grid.x + 1} * (m.grid.y + 1);
+    g.list = Buffer(m.c, 16 + quads * sizeof(uint32_t),
+                    storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                    detail::MemoryUse::Device);
+    m.glow.push_back(std::move(g));
+  }
+  // The glow passes leave the sums cleared and reset the list for the next frame; the
+  // first one finds them so.
+  m.c.submitNow([&](VkCommandBuffer commands) {
+    for (const GlowSlot& g : m.glow) {
+      m.c.vk.CmdFillBuffer(commands, g.sums.get(), 0, VK_WHOLE_SIZE, 0);
+      m.c.vk.CmdFillBuffer(commands, g.list.get(), 0, VK_WHOLE_SIZE, 0);
+    }
+  });
   m.extent = extent;
 }
 
 namespace {
 
-gpu::SplatParams splatParams(const GpuSimulation& simulation, const View& view) {
+gpu::SplatParams splatParams(const GpuSimulation& simulation, const View& view, LookStyle style,
+                             const LookSettings& settings) {
   gpu::SplatParams p{};
   p.viewProj = glm::make_mat4(view.viewProj.m);
-  p.style = detail::lineStyle(simulation.scene());
+  p.style = detail::lineStyle(simulation.scene(), style);
   p.target = glm::uvec4(view.extent.width, view.extent.height, 0u, 0u);
+  p.look = glm::vec4(settings.exposure, 0.0f, 0.0f, 0.0f);
+  return p;
+}
+
+gpu::GlowParams glowParams(const GpuSimulation& simulation, const View& view,
+                           const LookSettings& settings, glm::uvec2 grid) {
+  gpu::GlowParams p{};
+  p.viewProj = glm::make_mat4(view.viewProj.m);
+  p.style = detail::lineStyle(simulation.scene(), LookStyle::Lava);
+  const uint64_t particles = simulation.scene().particles();
+  const uint32_t stride = static_cast<uint32_t>((particles + kGlowSamples - 1) / kGlowSamples);
+  p.grid = glm::uvec4(grid.x, grid.y, 0u, std::max(stride, 1u));
+  p.target = glm::uvec4(view.extent.width, view.extent.height, 0u, 0u);
+  p.glow = glm::vec4(settings.threshold, settings.bloom, settings.exposure, 0.0f);
   return p;
 }
 
@@ -115,45 +258,115 @@ void checkFrame(uint32_t frame, uint32_t framesInFlight) {
 
 }  // namespace
 
-void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
-                                 const GpuSimulation& simulation, const View& view) {
-  const Impl& m = *impl_;
-  checkFrame(frame, m.framesInFlight);
-  // RAW: step.comp writes the particles, lines.vert or splat.comp reads them.
-  detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                        VK_ACCESS_SHADER_WRITE_BIT,
-                        VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                        VK_ACCESS_SHADER_READ_BIT);
-  if (m.mode != LineMode::Splat) return;
-  if (view.extent.width != m.extent.width || view.extent.height != m.extent.height)
-    throw InvalidArgument("view.extent", "differs from the renderer's setExtent() (" +
-                                             std::to_string(m.extent.width) + "x" +
-                                             std::to_string(m.extent.height) + ")");
-  const Buffer& sums = m.accumulation[frame];
+void LineRenderer::Impl::recordSplat(VkCommandBuffer commands, uint32_t frame,
+                                     const GpuSimulation& simulation, const View& view,
+                                     VkImageView depth) const {
+  const Buffer& sums = accumulation[frame];
   // WAR: this slot's last resolve.frag read the sums this fill clears.
-  detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, 0,
+  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, 0,
                         VK_PIPELINE_STAGE_TRANSFER_BIT, 0);
-  m.c.vk.CmdFillBuffer(commands, sums.get(), 0, VK_WHOLE_SIZE, 0);
+  c.vk.CmdFillBuffer(commands, sums.get(), 0, VK_WHOLE_SIZE, 0);
   // RAW/WAW: splat.comp adds atomically into the cleared sums.
-  detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-  m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, m.splatPipeline);
-  gpu::SplatParams params = splatParams(simulation, view);
+  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, splatPipeline);
+  gpu::SplatParams params = splatParams(simulation, view, style, settings);
+  params.target.w = depth ? 1u : 0u;
   for (const ParticleChunk& chunk : simulation.chunks()) {
     params.target.z = chunk.count;
     detail::PushDescriptors()
         .texels(gpu::kSplatParticleBinding, chunk.texels)
         .buffer(gpu::kSplatSumsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sums.get())
-        .push(m.c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, m.splatLayout);
-    m.c.vk.CmdPushConstants(commands, m.splatLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
-                            &params);
-    m.c.vk.CmdDispatch(commands, detail::groupCount(chunk.count, gpu::kWorkgroupSize), 1, 1);
+        .image(gpu::kSplatDepthBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+               depth ? depth : noDepth.view.get(), VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL)
+        .push(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, splatLayout);
+    c.vk.CmdPushConstants(commands, splatLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
+                          &params);
+    c.vk.CmdDispatch(commands, detail::groupCount(chunk.count, gpu::kWorkgroupSize), 1, 1);
   }
   // RAW: resolve.frag reads the sums splat.comp wrote.
-  detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                         VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
                         VK_ACCESS_SHADER_READ_BIT);
+}
+
+void LineRenderer::Impl::recordGlow(VkCommandBuffer commands, uint32_t frame,
+                                    const GpuSimulation& simulation, const View& view) const {
+  const GlowSlot& g = glow[frame];  // recordPrepare's first barrier ordered its last reads
+  gpu::GlowParams params = glowParams(simulation, view, settings, grid);
+  const auto bind = [&](VkBufferView particles) {
+    detail::PushDescriptors()
+        .texels(gpu::kGlowParticlesBinding, particles)
+        .buffer(gpu::kGlowSumsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.sums.get())
+        .buffer(gpu::kGlowLightBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.light.get())
+        .buffer(gpu::kGlowListBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.list.get())
+        .texels(gpu::kGlowSumTexelsBinding, g.sumTexels)
+        .push(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowLayout);
+    c.vk.CmdPushConstants(commands, glowLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
+                          &params);
+  };
+  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowSplat);
+  const uint32_t stride = params.grid.w;
+  params.target.z = 1;  // the first chunk's splat resets the list
+  for (const ParticleChunk& chunk : simulation.chunks()) {
+    params.grid.z = chunk.count;
+    bind(chunk.texels);
+    c.vk.CmdDispatch(
+        commands, detail::groupCount((uint64_t{chunk.count} + stride - 1) / stride,
+                                     gpu::kWorkgroupSize),
+        1, 1);
+    params.target.z = 0;
+  }
+  // RAW: the blur reads the sums the splat added; the list (next) counts into the
+  // arguments the splat reset.
+  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowBlur);
+  bind(simulation.chunks().front().texels);
+  c.vk.CmdDispatch(commands, detail::groupCount(uint64_t{grid.x} * grid.y, gpu::kWorkgroupSize),
+                   1, 1);
+  // RAW: the list reads the light the blur wrote; WAR: it clears the sums the blur read.
+  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowList);
+  bind(simulation.chunks().front().texels);
+  c.vk.CmdDispatch(
+      commands, detail::groupCount(uint64_t{grid.x + 1} * (grid.y + 1), gpu::kWorkgroupSize), 1,
+      1);
+  // RAW: the draw reads the list (its arguments too) and the light.
+  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_SHADER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+                            VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                        VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
+}
+
+void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
+                                 const GpuSimulation& simulation, const View& view,
+                                 VkImageView depth) {
+  const Impl& m = *impl_;
+  checkFrame(frame, m.framesInFlight);
+  // RAW: step.comp writes the particles, lines.vert, splat.comp or glow.comp reads them.
+  // WAR: this slot's last glow draw read the list (as its indirect arguments too) and the
+  // light that glow.comp rewrites (and which its last frame's pass cleared).
+  detail::memoryBarrier(m.c, commands,
+                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
+                            VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+                            VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                        VK_ACCESS_SHADER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  const bool lava = m.style == LookStyle::Lava;
+  if (m.mode != LineMode::Splat && !lava) return;
+  if (view.extent.width != m.extent.width || view.extent.height != m.extent.height)
+    throw InvalidArgument("view.extent", "differs from the renderer's setExtent() (" +
+                                             std::to_string(m.extent.width) + "x" +
+                                             std::to_string(m.extent.height) + ")");
+  if (m.mode == LineMode::Splat) m.recordSplat(commands, frame, simulation, view, depth);
+  if (lava && m.settings.bloom > 0.0f) m.recordGlow(commands, frame, simulation, view);
 }
 
 void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
@@ -161,9 +374,11 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
   const Impl& m = *impl_;
   checkFrame(frame, m.framesInFlight);
   detail::setViewport(m.c, commands, view.extent);
+  const bool lava = m.style == LookStyle::Lava;
   if (m.mode == LineMode::Splat) {
-    const gpu::SplatParams params = splatParams(simulation, view);
-    m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.resolvePipeline);
+    const gpu::SplatParams params = splatParams(simulation, view, m.style, m.settings);
+    m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
+                           lava ? m.lavaResolve : m.plainResolve);
     detail::PushDescriptors()
         .buffer(gpu::kResolveSumsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                 m.accumulation[frame].get())
@@ -171,22 +386,37 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
     m.c.vk.CmdPushConstants(commands, m.resolveLayout, VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                             sizeof(params), &params);
     m.c.vk.CmdDraw(commands, 3, 1, 0, 0);
-    return;
+  } else {
+    gpu::DrawParams params{};
+    params.viewProj = glm::make_mat4(view.viewProj.m);
+    params.style = detail::lineStyle(simulation.scene(), m.style);
+    params.target = {float(view.extent.width), float(view.extent.height), m.settings.exposure,
+                     kShortestLine};
+    m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
+                           lava ? m.lavaLines : m.plainLines);
+    m.c.vk.CmdPushConstants(commands, m.lineLayout,
+                            VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                            sizeof(params), &params);
+    for (const ParticleChunk& chunk : simulation.chunks()) {
+      detail::PushDescriptors()
+          .buffer(gpu::kParticleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, chunk.buffer, 0,
+                  VkDeviceSize{chunk.count} * sizeof(Particle))
+          .push(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.lineLayout);
+      m.c.vk.CmdDraw(commands, 2 * chunk.count, 1, 0, 0);
+    }
   }
-  gpu::DrawParams params{};
-  params.viewProj = glm::make_mat4(view.viewProj.m);
-  params.style = detail::lineStyle(simulation.scene());
-  m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.linePipeline);
-  m.c.vk.CmdPushConstants(commands, m.lineLayout,
+  if (!lava || m.settings.bloom <= 0.0f) return;
+  const GlowSlot& g = m.glow[frame];
+  const gpu::GlowParams params = glowParams(simulation, view, m.settings, m.grid);
+  m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.glowDraw);
+  detail::PushDescriptors()
+      .buffer(gpu::kGlowDrawListBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.list.get())
+      .texels(gpu::kGlowDrawLightBinding, g.lightTexels)
+      .push(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.glowDrawLayout);
+  m.c.vk.CmdPushConstants(commands, m.glowDrawLayout,
                           VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                           sizeof(params), &params);
-  for (const ParticleChunk& chunk : simulation.chunks()) {
-    detail::PushDescriptors()
-        .buffer(gpu::kParticleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, chunk.buffer, 0,
-                VkDeviceSize{chunk.count} * sizeof(Particle))
-        .push(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.lineLayout);
-    m.c.vk.CmdDraw(commands, 2 * chunk.count, 1, 0, 0);
-  }
+  m.c.vk.CmdDrawIndirect(commands, g.list.get(), 0, 1, sizeof(VkDrawIndirectCommand));
 }
 
 }  // namespace lava

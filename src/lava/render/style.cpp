@@ -1,9 +1,11 @@
 #include "style.h"
 
+#include "shared.h"
+
 namespace lava::detail {
 
-glm::vec4 lineStyle(const Scene& scene) {
-  return {scene.lineScale, 8.0f, 5.0f, 0.0f};
+glm::vec4 lineStyle(const Scene& scene, LookStyle style) {
+  return {scene.lineScale, 8.0f, 5.0f, style == LookStyle::Lava ? gpu::kLookLava : gpu::kLookPlain};
 }
 
 void setViewport(const DeviceContext& c, VkCommandBuffer commands, VkExtent2D extent) {

@@ -4,14 +4,15 @@
 
 #include <glm/glm.hpp>
 
+#include "lava/renderer.h"
 #include "lava/scene.h"
 #include "vulkan/device_context.h"
 
 namespace lava::detail {
 
 // x line scale s (s), y speed (m/s) at which a line is fully red, z age (s) at which it has
-// cooled to its darkest.
-glm::vec4 lineStyle(const Scene& scene);
+// cooled to its darkest, w the look (gpu::kLookPlain, kLookLava).
+glm::vec4 lineStyle(const Scene& scene, LookStyle style);
 
 // Viewport and scissor covering `extent`.
 void setViewport(const DeviceContext& context, VkCommandBuffer commands, VkExtent2D extent);

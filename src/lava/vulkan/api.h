@@ -81,6 +81,7 @@ namespace lava::detail {
   X(CmdCopyBuffer)                \
   X(CmdFillBuffer)                \
   X(CmdDraw)                      \
+  X(CmdDrawIndirect)              \
   X(CmdResetQueryPool)            \
   X(CmdWriteTimestamp)            \
   X(CmdSetViewport)               \

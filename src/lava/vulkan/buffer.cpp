@@ -94,10 +94,11 @@ Image createImage(const DeviceContext& c, VkExtent2D extent, VkFormat format,
   return out;
 }
 
-UniqueBufferView createTexelView(const DeviceContext& c, VkBuffer buffer, VkDeviceSize range) {
+UniqueBufferView createTexelView(const DeviceContext& c, VkBuffer buffer, VkDeviceSize range,
+                                 VkFormat format) {
   VkBufferViewCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
   info.buffer = buffer;
-  info.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+  info.format = format;
   info.range = range;
   VkBufferView view = VK_NULL_HANDLE;
   VK_CHECK(c.vk.CreateBufferView(c.device(), &info, c.allocator(), &view));

@@ -50,7 +50,8 @@ Image createImage(const DeviceContext& context, VkExtent2D extent, VkFormat form
 // when the device is out of memory).
 UniqueMemory allocateMemory(const DeviceContext& context, VkDeviceSize size, uint32_t type);
 
-// A view of `range` bytes of `buffer` as RGBA32F texels (a uniform texel buffer).
-UniqueBufferView createTexelView(const DeviceContext& context, VkBuffer buffer, VkDeviceSize range);
+// A view of `range` bytes of `buffer` as texels of `format` (a uniform texel buffer).
+UniqueBufferView createTexelView(const DeviceContext& context, VkBuffer buffer, VkDeviceSize range,
+                                 VkFormat format = VK_FORMAT_R32G32B32A32_SFLOAT);
 
 }  // namespace lava::detail

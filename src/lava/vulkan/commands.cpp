@@ -9,10 +9,12 @@ namespace lava::detail {
 
 UniqueDescriptorSetLayout createPushLayout(const DeviceContext& c,
                                            std::initializer_list<VkDescriptorType> types,
-                                           VkShaderStageFlags stages) {
+                                           VkShaderStageFlags stages, VkSampler sampler) {
   std::vector<VkDescriptorSetLayoutBinding> bindings;
   for (VkDescriptorType type : types)
-    bindings.push_back({static_cast<uint32_t>(bindings.size()), type, 1, stages, nullptr});
+    bindings.push_back({static_cast<uint32_t>(bindings.size()), type, 1, stages,
+                        type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER && sampler ? &sampler
+                                                                                    : nullptr});
   VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   info.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
   info.bindingCount = static_cast<uint32_t>(bindings.size());
@@ -20,6 +22,19 @@ UniqueDescriptorSetLayout createPushLayout(const DeviceContext& c,
   VkDescriptorSetLayout layout = VK_NULL_HANDLE;
   VK_CHECK(c.vk.CreateDescriptorSetLayout(c.device(), &info, c.allocator(), &layout));
   return UniqueDescriptorSetLayout(c, layout);
+}
+
+UniqueSampler createSampler(const DeviceContext& c, VkFilter filter) {
+  VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  info.magFilter = filter;
+  info.minFilter = filter;
+  info.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+  info.addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  info.addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  VkSampler sampler = VK_NULL_HANDLE;
+  VK_CHECK(c.vk.CreateSampler(c.device(), &info, c.allocator(), &sampler));
+  return UniqueSampler(c, sampler);
 }
 
 UniquePipelineLayout createPipelineLayout(const DeviceContext& c, VkDescriptorSetLayout set,

@@ -10,10 +10,14 @@
 
 namespace lava::detail {
 
-// A push-descriptor set layout: binding b of types[b], each visible to `stages`.
+// A push-descriptor set layout: binding b of types[b], each visible to `stages`; combined
+// image samplers use `sampler` (immutable) when it is given.
 UniqueDescriptorSetLayout createPushLayout(const DeviceContext& context,
                                            std::initializer_list<VkDescriptorType> types,
-                                           VkShaderStageFlags stages);
+                                           VkShaderStageFlags stages,
+                                           VkSampler sampler = VK_NULL_HANDLE);
+// A sampler clamping to the edge, with `filter` for both magnification and minification.
+UniqueSampler createSampler(const DeviceContext& context, VkFilter filter);
 // One set layout (or none) and one push-constant range of `pushBytes` for `pushStages`.
 UniquePipelineLayout createPipelineLayout(const DeviceContext& context, VkDescriptorSetLayout set,
                                           VkShaderStageFlags pushStages, uint32_t pushBytes);

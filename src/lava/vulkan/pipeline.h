@@ -33,6 +33,9 @@ struct GraphicsPipelineDesc {
   VkFormat depthFormat = VK_FORMAT_UNDEFINED;  // none: no depth test or write
   VkPrimitiveTopology topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
   bool additive = false;  // blend ONE + ONE onto the target
+  // Blend src (1 - dst) + dst: colours in [0, 1) compose as 1 - (1 - a)(1 - b), so a target
+  // holding T(x) = 1 - exp(-x) receives T(x + y) from a source T(y).
+  bool screen = false;
   bool depthTest = true;
   bool depthWrite = true;
 };

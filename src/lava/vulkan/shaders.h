@@ -5,6 +5,9 @@
 
 namespace lava::spirv {
 #include "copy_comp.h"
+#include "glow_comp.h"
+#include "glow_frag.h"
+#include "glow_vert.h"
 #include "ground_frag.h"
 #include "ground_vert.h"
 #include "lines_frag.h"

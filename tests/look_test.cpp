@@ -1,0 +1,306 @@
+// The lava look by image invariants on lavapipe, both renderers: a known line's colour is the
+// closed form (lava_color.glsl's model, written here again in C++) blended over the scene;
+// the glow lights pixels near bright lava and none far from it; 262,144 particles do not
+// burn out to white; lava at rest stays visible; the splat hides what the cone hides; the
+// two renderers agree.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <memory>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "host/frame_renderer.h"
+#include "host/offscreen.h"
+#include "lava/lava.h"
+#include "vulkan_test.h"
+
+namespace lava {
+namespace {
+
+using host::FrameRenderer;
+using host::OffscreenTarget;
+
+constexpr VkExtent2D kSize{320, 240};
+constexpr LineMode kModes[] = {LineMode::Lines, LineMode::Splat};
+const char* name(LineMode mode) {
+  return mode == LineMode::Lines ? "lines" : "splat";
+}
+
+// lava_color.glsl: the energy of a line per pixel (red, green, blue) and the tone map.
+glm::vec3 lavaEnergy(glm::vec3 velocity, float age, float fullRed, float coolAge) {
+  const float fast = std::clamp(glm::length(velocity) / fullRed, 0.0f, 1.0f);
+  glm::vec2 hue = glm::mix(glm::vec2(1.0f, 0.42f), glm::vec2(1.0f, 0.16f), fast);
+  const float heat = std::exp(-std::max(age, 0.0f) * (3.0f / coolAge));
+  const float t = std::clamp((heat - 0.6f) / 0.4f, 0.0f, 1.0f);
+  hue = glm::mix(hue, glm::vec2(1.0f, 0.6f), t * t * (3.0f - 2.0f * t));
+  const glm::vec2 rg = hue * (0.06f + 0.08f * (1.0f - fast) + 1.5f * heat * heat);
+  return {rg, 0.15f * rg.y * rg.y / rg.x};
+}
+glm::vec3 toneMap(glm::vec3 x) {
+  return 1.0f - glm::pow(1.0f + x / 16.0f, glm::vec3(-16.0f));
+}
+
+class LookTest : public test::VulkanTest {
+ protected:
+  void SetUp() override {
+    VulkanTest::SetUp();
+    submitter_ = std::make_unique<host::Submitter>(device());
+  }
+  void TearDown() override {
+    submitter_.reset();
+    VulkanTest::TearDown();
+  }
+
+  static Particle particle(glm::vec3 x, glm::vec3 v, float age) {
+    return Particle{x.x, x.y, x.z, age, v.x, v.y, v.z, 1.0f};
+  }
+  static Particle unborn() { return particle(glm::vec3(0.0f), glm::vec3(0.0f), -1.0f); }
+
+  // One lava-look frame of `particles` (set as the state of `scene`, no steps taken).
+  std::vector<uint8_t> render(Scene scene, const std::vector<Particle>& particles, LineMode mode,
+                              LookSettings settings = {}) {
+    scene.emitters.resize(1);
+    scene.emitters[0].particles = static_cast<uint32_t>(particles.size());
+    GpuSimulation simulation(device(), scene);
+    State state = initialState(scene);
+    state.particles = particles;
+    simulation.setState(state);
+    return draw(simulation, mode, settings, kSize);
+  }
+  std::vector<uint8_t> draw(const GpuSimulation& simulation, LineMode mode,
+                            const LookSettings& settings, VkExtent2D size) {
+    FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 1, LookStyle::Lava);
+    renderer.setLineMode(mode);
+    renderer.setSettings(settings);
+    const OffscreenTarget target(device(), size);
+    return host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
+  }
+
+  glm::vec2 project(glm::vec3 p) const {
+    const glm::vec4 clip =
+        glm::make_mat4(camera_.viewProj(float(kSize.width) / float(kSize.height)).m) *
+        glm::vec4(p, 1.0f);
+    return {(clip.x / clip.w * 0.5f + 0.5f) * float(kSize.width),
+            (clip.y / clip.w * 0.5f + 0.5f) * float(kSize.height)};
+  }
+  static glm::ivec3 pixel(const std::vector<uint8_t>& image, glm::ivec2 p) {
+    const uint8_t* c = &image[(size_t(p.y) * kSize.width + size_t(p.x)) * 4];
+    return {c[0], c[1], c[2]};
+  }
+  // The pixel within `radius` of `at` that `image` lights most over `background`.
+  static glm::ivec2 mostLit(const std::vector<uint8_t>& image,
+                            const std::vector<uint8_t>& background, glm::vec2 at, int radius) {
+    glm::ivec2 best(at);
+    int most = -1;
+    for (int y = int(at.y) - radius; y <= int(at.y) + radius; ++y)
+      for (int x = int(at.x) - radius; x <= int(at.x) + radius; ++x) {
+        const glm::ivec3 d = pixel(image, {x, y}) - pixel(background, {x, y});
+        if (d.x + d.y + d.z > most) most = d.x + d.y + d.z, best = {x, y};
+      }
+    return best;
+  }
+
+  OrbitCamera camera_;
+  std::unique_ptr<host::Submitter> submitter_;
+};
+
+const glm::vec3 kSkyPoint{0.0f, 2.6f, 0.0f};  // above the horizon: only sky behind
+const LookSettings kNoBloom{1.0f, 0.0f, 0.1f};
+
+TEST_F(LookTest, KnownLineHasTheModelsColourBlendedOverTheSky) {
+  // A line 0.3 * 0.8 m long (about 15 px): its pixels are background + T(E) (1 - background)
+  // with E from the colour model, fresh (yellow-orange) and cooled (a dark red crust).
+  Scene scene;
+  scene.lineScale = 0.3f;
+  const glm::vec3 v{0.8f, 0.0f, 0.0f};
+  for (LineMode mode : kModes) {
+    SCOPED_TRACE(name(mode));
+    const auto sky = render(scene, {unborn()}, mode, kNoBloom);
+    for (float age : {0.0f, 20.0f}) {
+      SCOPED_TRACE("age " + std::to_string(age));
+      const auto image = render(scene, {particle(kSkyPoint, v, age)}, mode, kNoBloom);
+      const glm::ivec2 at = mostLit(image, sky, project(kSkyPoint + 0.5f * 0.3f * v), 2);
+      const glm::vec3 bg = glm::vec3(pixel(sky, at)) / 255.0f;
+      const glm::vec3 expected =
+          bg + toneMap(lavaEnergy(v, age, 8.0f, 5.0f)) * (1.0f - bg);
+      const glm::vec3 got = glm::vec3(pixel(image, at)) / 255.0f;
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(got[c] * 255.0f, expected[c] * 255.0f, 2.5f) << "channel " << c;
+      if (age == 0.0f) {
+        EXPECT_GT(got.r, 0.7f);  // hot: bright, yellow-orange
+        EXPECT_GT(got.g / got.r, 0.5f);
+      } else {
+        EXPECT_LT(got.r, 0.3f);  // crust: dim, red
+        EXPECT_LT(got.g / got.r, 0.7f);
+        EXPECT_GT(got.r - bg.r, 0.05f);  // but still there
+      }
+      EXPECT_LT(got.b, got.g);
+      // The sky far from the line is untouched.
+      EXPECT_EQ(pixel(image, {5, 5}), pixel(sky, {5, 5}));
+    }
+  }
+}
+
+TEST_F(LookTest, GlowLightsPixelsNearBrightLavaButNotFarFromIt) {
+  // Many fresh particles on one spot of the sky: with bloom, pixels 12 px away are lit
+  // more than without; 120 px away nothing changes.
+  Scene scene;
+  scene.lineScale = 0.04f;
+  std::vector<Particle> spot(400, particle(kSkyPoint, glm::vec3(0.5f, 0.2f, 0.0f), 0.0f));
+  const glm::vec2 at = project(kSkyPoint);
+  for (LineMode mode : kModes) {
+    SCOPED_TRACE(name(mode));
+    const auto without = render(scene, spot, mode, kNoBloom);
+    const auto with = render(scene, spot, mode, LookSettings{1.0f, 1.0f, 0.1f});
+    for (glm::ivec2 d : {glm::ivec2(12, 0), glm::ivec2(-12, 0), glm::ivec2(0, 12)}) {
+      const glm::ivec3 a = pixel(with, glm::ivec2(at) + d), b = pixel(without, glm::ivec2(at) + d);
+      EXPECT_GT(a.x - b.x, 8) << "near, offset " << d.x << "," << d.y;
+      EXPECT_GE(a.y, b.y);
+    }
+    for (glm::ivec2 d : {glm::ivec2(120, 0), glm::ivec2(-120, 0), glm::ivec2(0, 100)})
+      EXPECT_EQ(pixel(with, glm::ivec2(at) + d), pixel(without, glm::ivec2(at) + d))
+          << "far, offset " << d.x << "," << d.y;
+  }
+}
+
+TEST_F(LookTest, DenseLavaDoesNotBurnOutToWhite) {
+  // The seed's crater with 262,144 particles, every slot alive, at 1280x720: fewer than 1%
+  // of the pixels clipped white (all channels >= 250), and the fountain bright.
+  Scene scene;
+  scene.emitters[0].particles = 262144;
+  scene.emitters[0].rate = 262144.0f / 5.0f;
+  GpuSimulation simulation(device(), scene);
+  simulation.advance(scene.stepsIn(5.0));
+  for (LineMode mode : kModes) {
+    SCOPED_TRACE(name(mode));
+    const auto image = draw(simulation, mode, LookSettings{}, {1280, 720});
+    size_t white = 0, bright = 0;
+    for (size_t p = 0; p < image.size(); p += 4) {
+      white += std::min({image[p], image[p + 1], image[p + 2]}) >= 250;
+      bright += image[p] >= 128;
+    }
+    const double pixels = 1280.0 * 720.0;
+    EXPECT_LT(white / pixels, 0.01);
+    EXPECT_GT(bright / pixels, 0.10);
+  }
+}
+
+TEST_F(LookTest, LavaAtRestOnTheGroundStaysVisible) {
+  // A cooled particle resting on the ground (no velocity: a line of zero length) is drawn
+  // as a dot in both renderers; the plain look, as the graphics pipeline, draws nothing.
+  Scene scene;
+  const glm::vec3 x{0.8f, 0.0f, 1.2f};
+  for (LineMode mode : kModes) {
+    SCOPED_TRACE(name(mode));
+    const auto ground = render(scene, {unborn()}, mode, kNoBloom);
+    const auto image = render(scene, {particle(x, glm::vec3(0.0f), 10.0f)}, mode, kNoBloom);
+    const glm::ivec2 at = mostLit(image, ground, project(x), 2);
+    const glm::ivec3 d = pixel(image, at) - pixel(ground, at);
+    EXPECT_GE(d.x, 15) << "red rises by " << d.x;
+    EXPECT_GT(d.x, d.y);  // red crust
+  }
+}
+
+TEST_F(LookTest, SplatHidesWhatTheConeHides) {
+  // A particle behind the volcano's cone, seen from the camera, is drawn by neither
+  // renderer (the splat tests each line's ends against the scene's depth); the same
+  // particle beside the cone is.
+  Scene scene;
+  Collider cone;
+  cone.type = ColliderType::Cone;
+  cone.baseRadius = 1.6f;
+  cone.topRadius = 0.4f;
+  cone.height = 1.4f;
+  scene.colliders = {cone};
+  scene.lineScale = 0.04f;
+  const glm::vec3 eye(camera_.eye().x, 0.0f, camera_.eye().z);
+  const glm::vec3 away = glm::normalize(-eye);  // from the camera through the cone's axis
+  const glm::vec3 side = glm::normalize(glm::cross(away, glm::vec3(0.0f, 1.0f, 0.0f)));
+  const glm::vec3 behind = away * 2.2f + glm::vec3(0.0f, 0.3f, 0.0f);
+  const glm::vec3 beside = side * 2.6f + glm::vec3(0.0f, 0.3f, 0.0f);
+  const glm::vec3 v{0.6f, 0.0f, 0.3f};
+  for (LineMode mode : kModes) {
+    SCOPED_TRACE(name(mode));
+    const auto empty = render(scene, {unborn()}, mode, kNoBloom);
+    EXPECT_EQ(render(scene, {particle(behind, v, 0.0f)}, mode, kNoBloom), empty);
+    EXPECT_NE(render(scene, {particle(beside, v, 0.0f)}, mode, kNoBloom), empty);
+  }
+}
+
+TEST_F(LookTest, LinesAndSplatAgree) {
+  // The default scene after 3 s: the two renderers add the same light over the backdrop,
+  // in total and block by block (16 x 16 pixels), up to how each samples a line.
+  GpuSimulation simulation(device(), Scene{});
+  simulation.advance(3000);
+  const auto lines = draw(simulation, LineMode::Lines, LookSettings{}, kSize);
+  const auto splat = draw(simulation, LineMode::Splat, LookSettings{}, kSize);
+  State empty = simulation.state();
+  for (Particle& p : empty.particles) p.age = -1.0f;
+  GpuSimulation none(device(), Scene{});
+  none.setState(empty);
+  const auto backdrop = draw(none, LineMode::Lines, LookSettings{}, kSize);
+  double total[2] = {0.0, 0.0};
+  double worst = 0.0;
+  for (uint32_t by = 0; by < kSize.height; by += 16)
+    for (uint32_t bx = 0; bx < kSize.width; bx += 16)
+      for (int c = 0; c < 3; ++c) {
+        double a = 0.0, b = 0.0;
+        for (uint32_t y = by; y < by + 16; ++y)
+          for (uint32_t x = bx; x < bx + 16; ++x) {
+            const size_t i = (size_t(y) * kSize.width + x) * 4 + c;
+            a += lines[i] - backdrop[i];
+            b += splat[i] - backdrop[i];
+          }
+        total[0] += a;
+        total[1] += b;
+        worst = std::max(worst, std::abs(a - b) / 256.0);
+      }
+  ASSERT_GT(total[0], 256.0 * 40.0) << "the lines add light";
+  EXPECT_LT(worst, 8.0) << "the largest difference of a block's mean (of 255)";
+  EXPECT_NEAR(total[1] / total[0], 1.0, 0.05);
+}
+
+TEST_F(LookTest, CachedBackdropDrawsTheSameImage) {
+  // The lava look's backdrop is cached and copied as the plain one is: the second frame of
+  // an unchanged view looks exactly like the first.
+  GpuSimulation simulation(device(), Scene{});
+  simulation.advance(2000);
+  for (LineMode mode : kModes) {
+    SCOPED_TRACE(name(mode));
+    FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 1, LookStyle::Lava);
+    renderer.setLineMode(mode);
+    const OffscreenTarget target(device(), kSize);
+    const auto drawn = host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
+    EXPECT_FALSE(renderer.backdropReused());
+    const OffscreenTarget fresh(device(), kSize);
+    const auto copied = host::renderOffscreen(*submitter_, renderer, simulation, fresh, camera_);
+    EXPECT_TRUE(renderer.backdropReused());
+    EXPECT_EQ(drawn, copied);
+    // Switching the look redraws the backdrop.
+    renderer.setStyle(LookStyle::Plain);
+    host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
+    EXPECT_FALSE(renderer.backdropReused());
+  }
+}
+
+TEST_F(LookTest, SettingsOutOfRangeAreRefusedByName) {
+  FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 1);
+  EXPECT_THROW(renderer.setSettings({0.0f, 1.0f, 0.1f}), InvalidArgument);
+  EXPECT_THROW(renderer.setSettings({1.0f, 5.0f, 0.1f}), InvalidArgument);
+  EXPECT_THROW(renderer.setSettings({1.0f, 1.0f, -1.0f}), InvalidArgument);
+  EXPECT_THROW(renderer.setSettings({std::nanf(""), 1.0f, 0.1f}), InvalidArgument);
+  try {
+    renderer.setSettings({1.0f, 9.0f, 0.1f});
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("bloom"), std::string::npos) << e.what();
+  }
+  renderer.setSettings({2.0f, 0.5f, 0.2f});
+  EXPECT_EQ(renderer.settings().exposure, 2.0f);
+}
+
+}  // namespace
+}  // namespace lava
