@@ -7,7 +7,7 @@
 //   threshold, the hue kept: only what glows brightly spreads), blurred over 5 x 5 cells
 //   and times the strength: the light each cell receives;
 // - list: the quads between four neighbouring cells' centres (one more across and down than
-//   cells, the edges clamped) where any of the four has light, appended to the draw's list
+//   cells, the edges clamped) where any of the four has visible light, appended to the list
 //   (its vertex count 6 per quad); and the sums cleared for the slot's next frame.
 #extension GL_GOOGLE_include_directive : require
 #include "shared.h"
@@ -36,6 +36,7 @@ layout(push_constant) uniform Push {
 };
 
 const float kFixed = 256.0;  // sums: energy x kFixed
+const float kVisible = 0.002;  // glow energy below this adds less than half a display step
 // A 5-tap Gaussian (sigma 1 cell), normalised.
 const int kTaps = 3;
 const float kWeights[kTaps] = float[](0.4026, 0.2442, 0.0545);
@@ -102,7 +103,7 @@ void list(uint quad) {
   for (uint k = 0u; k < 4u; ++k) {
     uvec2 c = min(uvec2(max(int(q.x + (k & 1u)) - 1, 0), max(int(q.y + (k >> 1)) - 1, 0)),
                   g.grid.xy - 1u);
-    lit = lit || light[c.y * g.grid.x + c.x].r > 0.0;
+    lit = lit || light[c.y * g.grid.x + c.x].r * g.glow.z > kVisible;
   }
   if (!lit) return;
   uint slot = atomicAdd(vertexCount, 6u) / 6u;  // the splat pass reset it
