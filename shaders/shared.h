@@ -60,6 +60,11 @@ const uint kEmittersConstant = 2u;    // 1..kMaxEmitters
 const uint kForcesConstant = 3u;      // 0..kMaxForces
 const uint kCollidersConstant = 4u;   // 0..kMaxColliders
 const uint kLifetimesConstant = 5u;   // 1 when some emitter has a lifetime
+// The kind of each force (bit i: 1 for a vortex) and collider (bits 2i, 2i+1: kPlane ...
+// kCone): each slot's code is then known when the pipeline is built, so a device that runs
+// both sides of a branch (a CPU device's SIMD lanes) runs only the kind in that slot.
+const uint kForceKindsConstant = 6u;
+const uint kColliderKindsConstant = 7u;
 
 const uint kMaxEmitters = 16u;
 const uint kMaxForces = 16u;

@@ -9,6 +9,7 @@
 // in the order SPEC §6 gives, quotients and products of scene constants come from the host,
 // and the only square root and division are the sphere collider's. The execution modes ask
 // for IEEE round-to-nearest-even and preserved signed zeros where the device offers them.
+#extension GL_EXT_control_flow_attributes : require
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_spirv_intrinsics : require
 #include "shared.h"
@@ -26,6 +27,8 @@ layout(constant_id = kEmittersConstant) const uint kEmitters = 1u;
 layout(constant_id = kForcesConstant) const uint kForces = 0u;
 layout(constant_id = kCollidersConstant) const uint kColliders = 0u;
 layout(constant_id = kLifetimesConstant) const uint kLifetimes = 0u;
+layout(constant_id = kForceKindsConstant) const uint kForceKinds = 0u;
+layout(constant_id = kColliderKindsConstant) const uint kColliderKinds = 0u;
 
 layout(std430, binding = kParticleBinding) writeonly buffer Particles {
   Particle particles[];
@@ -121,10 +124,10 @@ void emit(uint k, uint lo, uint hi, out precise vec3 x, out precise vec3 v) {
 // F(x, v): wind and gravity (w = wind.y - m g, from the host), drag, then the forces.
 void force(const World g, precise vec3 x, precise vec3 v, float w, out precise vec3 f) {
   f = vec3(g.wind.x, w, g.wind.z) - g.drag * v;
-  for (uint i = 0u; i < kForces; ++i) {
+  [[unroll]] for (uint i = 0u; i < kForces; ++i) {
     const ForceParams F = scene.forces[i];
     precise float k = F.position.w;
-    if (F.kind.x == kAttractor) {
+    if (((kForceKinds >> i) & 1u) == kAttractor) {
       precise vec3 d = F.position.xyz - x;
       precise float dd = (d.x * d.x + d.y * d.y) + d.z * d.z;
       if (F.kind.y != 0u || dd <= F.axis.w) f = f + k * d;
@@ -197,8 +200,7 @@ void cone(const ColliderParams c, inout precise vec3 x, inout precise vec3 v) {
   }
 }
 
-void collide(const ColliderParams c, inout precise vec3 x, inout precise vec3 v) {
-  const uint type = c.kind.x;
+void collide(const ColliderParams c, uint type, inout precise vec3 x, inout precise vec3 v) {
   if (type == kPlane) {
     precise vec3 n = c.shape.xyz;
     precise vec3 r = x - c.position.xyz;
@@ -279,7 +281,8 @@ void step(const World g, const Model e, inout precise vec3 x, inout precise vec3
       flush(v);
     }
   }
-  for (uint i = 0u; i < kColliders; ++i) collide(scene.colliders[i], x, v);
+  [[unroll]] for (uint i = 0u; i < kColliders; ++i)  // each slot's kind then a constant
+    collide(scene.colliders[i], (kColliderKinds >> (2u * i)) & 3u, x, v);
   if (kLifetimes != 0u && e.lifetime > 0.0 && age >= e.lifetime) age = -1.0;
 }
 

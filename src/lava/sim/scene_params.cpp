@@ -65,8 +65,14 @@ gpu::SceneParams sceneParams(const Scene& s) {
 Constants stepConstants(const Scene& s) {
   uint32_t lifetimes = 0;
   for (const Emitter& e : s.emitters) lifetimes |= e.lifetime > 0.0f ? 1u : 0u;
+  uint32_t forceKinds = 0, colliderKinds = 0;
+  for (size_t i = 0; i < s.forces.size(); ++i)
+    forceKinds |= (s.forces[i].type == ForceType::Vortex ? 1u : 0u) << i;
+  for (size_t i = 0; i < s.colliders.size(); ++i)
+    colliderKinds |= uint32_t(s.colliders[i].type) << (2 * i);
   return {gpu::kWorkgroupSize,       uint32_t(s.integrator),       uint32_t(s.emitters.size()),
-          uint32_t(s.forces.size()), uint32_t(s.colliders.size()), lifetimes};
+          uint32_t(s.forces.size()), uint32_t(s.colliders.size()), lifetimes,
+          forceKinds,                colliderKinds};
 }
 
 }  // namespace lava::detail
