@@ -1,6 +1,7 @@
 // The `lava` program as users and outside checks call it: exit codes, one-line messages
 // naming the flag, scene files, and outputs that appear whole or not at all.
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -291,6 +292,103 @@ TEST(Simulate, SixteenMillionParticlesPastTheBindingRange) {
   const Result r = lava("simulate --particles 16777216 --steps 5");
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("16777216 particles"), std::string::npos) << r.out;
+}
+
+TEST(Checkpoint, HalvesResumedGiveTheStraightRunsBytes) {
+  // N steps straight, or N/2 to a checkpoint and N/2 resumed from it: identical files, on
+  // each backend and crossed over; validate starts from it too.
+  const std::string scene = "--scene " + std::string(LAVA_SOURCE_DIR) + "/scenes/volcano.toml";
+  const std::string straight = scratch("straight.npy"), ck = scratch("half.npz");
+  ASSERT_EQ(lava("simulate " + scene + " --steps 1600 --out " + straight).status, 0);
+  for (const char* first : {"gpu", "cpu"})
+    for (const char* second : {"gpu", "cpu"}) {
+      SCOPED_TRACE(std::string(first) + " then " + second);
+      const std::string resumed = scratch("resumed.npy");
+      const Result a = lava("simulate " + scene + " --steps 800 --backend " + first +
+                            " --checkpoint " + ck);
+      ASSERT_EQ(a.status, 0) << a.err;
+      EXPECT_NE(a.out.find("checkpoint at step 800"), std::string::npos) << a.out;
+      const Result b = lava("simulate --resume " + ck + " --steps 800 --backend " + second +
+                            " --out " + resumed);
+      ASSERT_EQ(b.status, 0) << b.err;
+      EXPECT_EQ(readFile(resumed), readFile(straight));
+    }
+  const Result v = lava("validate --resume " + ck + " --steps 300 --every 100");
+  EXPECT_EQ(v.status, 0) << v.err;
+  EXPECT_NE(v.out.find("from step 800"), std::string::npos) << v.out;
+  // Every K steps: the file holds the last multiple.
+  ASSERT_EQ(lava("simulate --steps 1000 --backend cpu --checkpoint " + ck +
+                 " --checkpoint-every 300").status,
+            0);
+  EXPECT_NE(readFile(ck).size(), 0u);
+}
+
+TEST(Checkpoint, SigintWritesItAndTheResumedRunMatchesTheUninterruptedOne) {
+  // A long run on the CPU, interrupted mid-way: exit 130 saying after how many steps, the
+  // checkpoint written at a step boundary; resumed for 500 more steps it matches a run that
+  // took those steps in one go.
+  const std::string ck = scratch("interrupted.npz"), log = scratch("interrupted.log");
+  std::remove(ck.c_str());
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    freopen(log.c_str(), "w", stdout);
+    execl(LAVA_EXE, LAVA_EXE, "simulate", "--particles", "20000", "--rate", "5000", "--backend",
+          "cpu", "--threads", "1", "--steps", "1000000", "--checkpoint", ck.c_str(),
+          "--checkpoint-every", "1000", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // The first periodic checkpoint says the run is under way (its handlers installed).
+  for (int i = 0; i < 600 && access(ck.c_str(), F_OK) != 0; ++i) usleep(50 * 1000);
+  usleep(300 * 1000);
+  kill(child, SIGINT);
+  int raw = 0;
+  waitpid(child, &raw, 0);
+  ASSERT_TRUE(WIFEXITED(raw)) << "killed by signal " << WTERMSIG(raw);
+  EXPECT_EQ(WEXITSTATUS(raw), 130);
+  const std::string out = readFile(log);
+  const size_t after = out.find("interrupted by SIGINT after ");
+  ASSERT_NE(after, std::string::npos) << out;
+  const unsigned long long done = std::stoull(out.substr(after + 28));
+  ASSERT_GT(done, 0u);
+  ASSERT_LT(done, 1000000u);
+  const std::string resumed = scratch("resumed.npy"), straight = scratch("straight.npy");
+  ASSERT_EQ(lava("simulate --resume " + ck + " --steps 500 --backend cpu --out " + resumed).status,
+            0);
+  ASSERT_EQ(lava("simulate --particles 20000 --rate 5000 --backend cpu --steps " +
+                 std::to_string(done + 500) + " --out " + straight)
+                .status,
+            0);
+  EXPECT_EQ(readFile(resumed), readFile(straight));
+}
+
+TEST(Checkpoint, DamagedFilesExitTwoAndOverwriteNothing) {
+  const std::string ck = scratch("good.npz"), out = scratch("kept.npy");
+  ASSERT_EQ(lava("simulate --steps 200 --checkpoint " + ck + " --out " + out).status, 0);
+  const std::string good = readFile(ck), kept = readFile(out);
+  const std::string truncated = writeScene("truncated.npz", good.substr(0, good.size() / 2));
+  std::string flipped = good;
+  flipped[good.size() / 3] = char(flipped[good.size() / 3] ^ 1);
+  const std::string corrupt = writeScene("corrupt.npz", flipped);
+  const std::string text = writeScene("text.npz", "particles = 5\n");
+  struct Case {
+    std::string file, says;
+  };
+  for (const Case& c : {Case{truncated, "truncated"}, Case{corrupt, "mismatch"},
+                        Case{text, "not a checkpoint"}, Case{scratch("missing.npz"), "cannot read"}}) {
+    const Result r = lava("simulate --resume " + c.file + " --steps 10 --out " + out);
+    EXPECT_EQ(r.status, 2) << c.file;
+    EXPECT_NE(r.err.find("--resume: "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+  const Result p = lava("simulate --resume " + ck + " --steps 10 --particles 99 --out " + out);
+  EXPECT_EQ(p.status, 2);
+  EXPECT_NE(p.err.find("--particles: 99 disagrees with the checkpoint's 5000"), std::string::npos)
+      << p.err;
+  EXPECT_EQ(lava("simulate --resume " + ck + " --scene x.toml --steps 1").status, 2);
+  EXPECT_EQ(readFile(out), kept);  // nothing overwritten
+  EXPECT_EQ(readFile(ck), good);
 }
 
 TEST(Validate, SaysBitExactOnLavapipe) {

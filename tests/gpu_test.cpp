@@ -202,7 +202,7 @@ namespace lava {
 namespace {
 
 // Every module of SPEC §6 on its own, and all of them together: 20,000+ particles over
-// 2,000 steps, bit-identical on the GPU and the CPU reference.
+// 3,000 steps, bit-identical on the GPU and the CPU reference.
 Scene moduleScene(const std::string& module) {
   Scene s;
   s.seed = 777;
@@ -281,7 +281,7 @@ TEST_P(Modules, AreBitIdenticalToTheCpuReference) {
   const Scene s = moduleScene(GetParam());
   GpuSimulation gpu(device(), s);
   CpuSimulation cpu(s, 2);
-  for (int checkpoint = 0; checkpoint < 2; ++checkpoint) {
+  for (int checkpoint = 0; checkpoint < 3; ++checkpoint) {
     gpu.advance(1000);
     cpu.advance(1000);
     const Comparison c = compare(s, gpu.state().particles, cpu.state().particles);
@@ -290,6 +290,40 @@ TEST_P(Modules, AreBitIdenticalToTheCpuReference) {
         << ", max ULP " << c.maxUlp;
     EXPECT_GT(c.alive, 1000u);
   }
+}
+
+// Checkpoints (issue 18): N steps straight, or N/2, a checkpoint (through its bytes, as a
+// file holds them), then N/2 more: the same bytes, on each backend and crossed over.
+TEST_P(Modules, ResumeFromACheckpointBitForBit) {
+  const Scene s = moduleScene(GetParam());
+  CpuSimulation straight(s, 2);
+  straight.advance(1200);
+  const State expected = straight.state();
+  for (int first = 0; first < 2; ++first)
+    for (int second = 0; second < 2; ++second) {
+      SCOPED_TRACE(std::string(first ? "gpu" : "cpu") + " then " + (second ? "gpu" : "cpu"));
+      std::unique_ptr<Simulation> a, b;
+      if (first) a = std::make_unique<GpuSimulation>(device(), s);
+      else a = std::make_unique<CpuSimulation>(s, 1);
+      a->advance(600);
+      const Snapshot saved = parseCheckpoint(checkpointBytes(s, a->state()), "test");
+      EXPECT_EQ(saved.state.step, 600u);
+      if (second) b = std::make_unique<GpuSimulation>(device(), saved.scene);
+      else b = std::make_unique<CpuSimulation>(saved.scene, 2);
+      b->setState(saved.state);
+      b->advance(600);
+      const State got = b->state();
+      ASSERT_EQ(got.particles.size(), expected.particles.size());
+      EXPECT_EQ(std::memcmp(got.particles.data(), expected.particles.data(),
+                            got.particles.size() * sizeof(Particle)),
+                0);
+      EXPECT_EQ(got.step, expected.step);
+      for (size_t k = 0; k < got.clocks.size(); ++k) {
+        EXPECT_EQ(got.clocks[k].serial, expected.clocks[k].serial);
+        EXPECT_EQ(got.clocks[k].head, expected.clocks[k].head);
+        EXPECT_EQ(got.clocks[k].accumulator, expected.clocks[k].accumulator);
+      }
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Effects, Modules,

@@ -184,8 +184,8 @@ TEST_F(LookTest, DenseLavaDoesNotBurnOutToWhite) {
       bright += image[p] >= 128;
     }
     const double pixels = 1280.0 * 720.0;
-    EXPECT_LT(white / pixels, 0.01);
-    EXPECT_GT(bright / pixels, 0.10);
+    EXPECT_LT(double(white) / pixels, 0.01);
+    EXPECT_GT(double(bright) / pixels, 0.10);
   }
 }
 

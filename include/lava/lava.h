@@ -9,6 +9,7 @@
 #pragma once
 #include "bench.h"
 #include "camera.h"
+#include "checkpoint.h"
 #include "device.h"
 #include "error.h"
 #include "lava/version.h"

@@ -1,6 +1,8 @@
-// `lava simulate`: runs a scene on the GPU or the CPU reference and writes the final state.
+// `lava simulate`: runs a scene on the GPU or the CPU reference and writes the final state;
+// checkpoints it (at the end, every K steps, and on SIGINT/SIGTERM) and resumes from one.
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -10,10 +12,17 @@
 #include "host/output.h"
 #include "lava/lava.h"
 #include "options.h"
+#include "resume.h"
 #include "runtime.h"
 
 namespace lava::app {
 namespace {
+
+volatile std::sig_atomic_t interrupted = 0;  // the signal that asked the run to stop
+
+extern "C" void onStopSignal(int signal) {
+  interrupted = signal;
+}
 
 class SimulateCommand final : public Command {
  public:
@@ -42,10 +51,30 @@ class SimulateCommand final : public Command {
                    host::checkStatePath(src, t);
                    out_ = t;
                  });
+    options_.add("checkpoint",
+                 "write the run's state and scene to FILE.npz at the end, every "
+                 "--checkpoint-every steps, and on SIGINT/SIGTERM (then exit 130/143)",
+                 [this](const std::string& src, const std::string& t) {
+                   host::checkOutputPath(src, t, ".npz");
+                   checkpoint_ = t;
+                 });
+    options_.add("checkpoint-every", "with --checkpoint: also every K steps, 1..1e9 [at the end]",
+                 [this](const std::string& src, const std::string& t) {
+                   every_ = parseInteger(src, t, 1, 1000000000);
+                 });
+    options_.add("resume",
+                 "continue the run a checkpoint FILE.npz holds: its scene (scene flags may "
+                 "change its parameters, not its emitters or their capacities) and state; "
+                 "--steps more steps",
+                 [](const std::string&, const std::string&) {});  // read before resolve()
   }
 
   int run() override {
+    const std::optional<Snapshot> resumed = readResume(options_, scene_);
     options_.resolve();
+    if (every_ && checkpoint_.empty())
+      throw host::UsageError("--checkpoint-every: needs --checkpoint FILE.npz");
+    if (resumed) checkResumedScene(scene_, resumed->scene);
     std::unique_ptr<Device> device;
     std::unique_ptr<Simulation> simulation;
     if (gpu_) {
@@ -56,18 +85,48 @@ class SimulateCommand final : public Command {
           threads_ ? threads_ : std::max(1u, std::thread::hardware_concurrency());
       simulation = std::make_unique<CpuSimulation>(scene_, threads);
     }
+    if (resumed) simulation->setState(resumed->state);
+    if (!checkpoint_.empty()) {
+      interrupted = 0;
+      std::signal(SIGINT, onStopSignal);
+      std::signal(SIGTERM, onStopSignal);
+    }
 
     const auto start = std::chrono::steady_clock::now();
+    // Batches of about 2^26 particle-steps (at least one step, at most 4096): a signal is
+    // answered within a fraction of a second, at a step boundary.
+    const uint64_t batchSteps =
+        std::clamp<uint64_t>((uint64_t{1} << 26) / std::max<uint64_t>(scene_.particles(), 1), 1,
+                             4096);
+    uint64_t done = 0;
     {
       Progress progress("simulate", steps_);
-      for (uint64_t done = 0; done < steps_;) {
-        const uint64_t batch = std::min<uint64_t>(steps_ - done, 4096);
+      while (done < steps_ && !interrupted) {
+        uint64_t batch = std::min<uint64_t>(steps_ - done, batchSteps);
+        if (every_) batch = std::min<uint64_t>(batch, every_ - done % every_);
         simulation->advance(batch);
         done += batch;
         progress.update(done);
+        if (every_ && done % every_ == 0 && done < steps_) saveCheckpoint(*simulation);
       }
     }
-    const State state = simulation->state();
+    if (!checkpoint_.empty()) {
+      std::signal(SIGINT, SIG_DFL);
+      std::signal(SIGTERM, SIG_DFL);
+    }
+    if (interrupted) {
+      const State state = saveCheckpoint(*simulation);
+      std::printf(
+          "simulate: interrupted by %s after %llu of %llu steps (step %llu of the run); wrote "
+          "%s: continue with lava simulate --resume %s --steps %llu\n",
+          interrupted == SIGINT ? "SIGINT" : "SIGTERM", static_cast<unsigned long long>(done),
+          static_cast<unsigned long long>(steps_), static_cast<unsigned long long>(state.step),
+          checkpoint_.c_str(), checkpoint_.c_str(),
+          static_cast<unsigned long long>(steps_ - done));
+      const int status = interrupted == SIGINT ? 130 : 143;
+      return device ? finish(*device, status) : status;
+    }
+    const State state = checkpoint_.empty() ? simulation->state() : saveCheckpoint(*simulation);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -86,10 +145,24 @@ class SimulateCommand final : public Command {
         static_cast<unsigned long long>(below),
         static_cast<unsigned long long>(stateHash(state.particles)), out_.empty() ? "" : ", wrote ",
         out_.c_str());
+    if (!checkpoint_.empty())
+      std::printf("simulate: checkpoint at step %llu in %s\n",
+                  static_cast<unsigned long long>(state.step), checkpoint_.c_str());
     return device ? finish(*device, 0) : 0;
   }
 
  private:
+  // The state now, written to --checkpoint.
+  State saveCheckpoint(Simulation& simulation) const {
+    State state = simulation.state();
+    try {
+      writeCheckpoint(checkpoint_, scene_, state);
+    } catch (const ResourceError& e) {
+      throw host::UsageError("--checkpoint: " + std::string(e.what()));
+    }
+    return state;
+  }
+
   Options options_;
   Scene scene_;
   std::optional<unsigned> device_;
@@ -97,6 +170,8 @@ class SimulateCommand final : public Command {
   bool gpu_ = true;
   unsigned threads_ = 0;
   std::string out_;
+  std::string checkpoint_;
+  uint64_t every_ = 0;
 };
 
 }  // namespace

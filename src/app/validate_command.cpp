@@ -11,6 +11,7 @@
 #include "host/output.h"
 #include "lava/lava.h"
 #include "options.h"
+#include "resume.h"
 #include "runtime.h"
 #include "suite.h"
 
@@ -65,10 +66,19 @@ class ValidateCommand final : public Command {
                  });
     options_.add("against", "with --suite: compare the GPU to hashes --record wrote (no CPU)",
                  [this](const std::string&, const std::string& t) { against_ = t; });
+    options_.add("resume",
+                 "start both backends from the state a checkpoint FILE.npz holds, in its "
+                 "scene (scene flags may change its parameters)",
+                 [](const std::string&, const std::string&) {});  // read before resolve()
   }
 
   int run() override {
+    resumed_ = readResume(options_, scene_);
     options_.resolve();
+    if (resumed_) {
+      checkResumedScene(scene_, resumed_->scene);
+      if (!suite_.empty()) throw host::UsageError("--resume: not with --suite");
+    }
     if (suite_.empty()) {
       for (const char* flag : {"junit", "results", "baseline", "record", "against"})
         if (options_.given(flag))
@@ -96,9 +106,18 @@ class ValidateCommand final : public Command {
     Device device(deviceOptions(device_));
     GpuSimulation gpu(device, scene_);
     CpuSimulation cpu(scene_, cores());
-    std::printf("validate: %llu particles, %llu steps, %s vs cpu reference, tolerance %u ULP\n",
+    if (resumed_) {
+      gpu.setState(resumed_->state);
+      cpu.setState(resumed_->state);
+    }
+    std::printf("validate: %llu particles, %llu steps%s, %s vs cpu reference, tolerance %u ULP\n",
                 static_cast<unsigned long long>(scene_.particles()),
-                static_cast<unsigned long long>(steps_), gpu.name().c_str(), tolerance_);
+                static_cast<unsigned long long>(steps_),
+                resumed_ ? (" from step " + std::to_string(resumed_->state.step) + " of " +
+                            options_.text("resume"))
+                               .c_str()
+                         : "",
+                gpu.name().c_str(), tolerance_);
     printDevice(device);
     std::printf("%10s %21s %14s %14s %10s\n", "step", "equal particles", "max|dx| (m)",
                 "max|dv| (m/s)", "max ULP");
@@ -247,6 +266,7 @@ class ValidateCommand final : public Command {
   uint64_t every_ = 0;
   uint32_t tolerance_ = 0;
   std::string csv_, suite_, junit_, results_, baseline_, record_, against_;
+  std::optional<Snapshot> resumed_;  // --resume
 };
 
 }  // namespace

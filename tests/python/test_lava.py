@@ -87,3 +87,44 @@ def test_a_scene_file_with_program_options_serves_python_too(tmp_path):
     scene = tmp_path / "shared.toml"
     scene.write_text("particles = 123\nsteps = 20\nframes = 2\n")
     assert lava.simulate(20, backend="cpu", scene=str(scene)).shape == (123, 7)
+
+
+def test_checkpoints_read_in_numpy_without_lava(tmp_path):
+    # issue 18: the checkpoint is an .npz numpy opens; its state is simulate's .npy, its raw
+    # particles the same floats, its clock and scene readable.
+    ck = str(tmp_path / "run.npz")
+    scene = os.path.join(SCENES, "volcano.toml")
+    subprocess.run([LAVA, "simulate", "--scene", scene, "--steps", "700", "--checkpoint", ck],
+                   check=True, capture_output=True)
+    z = np.load(ck)
+    assert set(z.files) == {"format", "scene", "step", "clock", "particles", "state", "hash",
+                            "checksum"}
+    assert z["format"][0] == 1 and int(z["step"]) == 700
+    assert np.array_equal(z["state"], program(tmp_path, "--scene", scene, "--steps", "700"))
+    raw = z["particles"]
+    assert raw.shape == (36000, 8)
+    assert np.array_equal(raw[:, [0, 1, 2, 4, 5, 6, 3]], z["state"])
+    assert list(z["clock"].dtype.names) == ["accumulator", "serial", "head"]
+    assert z["clock"]["serial"].tolist() == [2800, 700, 700]
+    assert "[[collider]]" in bytes(z["scene"]).decode()
+
+
+def test_a_checkpoint_of_another_format_is_refused_by_name(tmp_path):
+    # Rewritten by numpy (its own ZIP writer) with format 9: Lava reads the archive and says
+    # which format it is.
+    ck, other = str(tmp_path / "run.npz"), str(tmp_path / "other.npz")
+    subprocess.run([LAVA, "simulate", "--steps", "10", "--checkpoint", ck], check=True,
+                   capture_output=True)
+    arrays = dict(np.load(ck))
+    arrays["format"] = np.array([9], dtype="<u4")
+    np.savez(other, **arrays)
+    r = subprocess.run([LAVA, "simulate", "--resume", other, "--steps", "1"],
+                       capture_output=True, text=True)
+    assert r.returncode == 2
+    assert "checkpoint format 9; this Lava reads format 1" in r.stderr, r.stderr
+    # Unchanged but rewritten by numpy: still a checkpoint Lava resumes.
+    arrays["format"] = np.array([1], dtype="<u4")
+    np.savez(other, **arrays)
+    r = subprocess.run([LAVA, "simulate", "--resume", other, "--steps", "1"],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr

@@ -1,0 +1,440 @@
+// Checkpoints as .npz: a ZIP archive (stored, ZIP64 records throughout, so any size) of .npy
+// members written and read here, with nothing but the C++ library.
+#include "lava/checkpoint.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <array>
+#include <cctype>
+#include <initializer_list>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include "lava/error.h"
+
+namespace lava {
+namespace {
+
+// -- bytes --------------------------------------------------------------------------------
+
+uint32_t crc32(const std::string& data) {
+  static const std::array<uint32_t, 256> table = [] {
+    std::array<uint32_t, 256> t{};
+    for (uint32_t i = 0; i < 256; ++i) {
+      uint32_t c = i;
+      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      t[i] = c;
+    }
+    return t;
+  }();
+  uint32_t c = 0xFFFFFFFFu;
+  for (unsigned char b : data) c = table[(c ^ b) & 0xFF] ^ (c >> 8);
+  return c ^ 0xFFFFFFFFu;
+}
+
+uint64_t fnv1a(uint64_t hash, const std::string& data) {
+  for (unsigned char b : data) {
+    hash ^= b;
+    hash *= 1099511628211ull;
+  }
+  return hash;
+}
+constexpr uint64_t kFnvOffset = 14695981039346656037ull;
+
+template <typename T>
+void put(std::string& out, T value) {  // little-endian, as every field of both formats
+  for (size_t i = 0; i < sizeof(T); ++i) out.push_back(char((uint64_t(value) >> (8 * i)) & 0xFF));
+}
+
+template <typename T>
+std::string bytesOf(const T* data, size_t count) {
+  return std::string(reinterpret_cast<const char*>(data), count * sizeof(T));
+}
+
+// -- .npy ---------------------------------------------------------------------------------
+
+std::string npyHeader(const std::string& descr, const std::string& shape) {
+  std::string header = "{'descr': " + descr + ", 'fortran_order': False, 'shape': " + shape + ", }";
+  const size_t preamble = 10;  // magic (6) + version (2) + header length (2)
+  header.append(63 - (preamble + header.size()) % 64, ' ');
+  header.push_back('\n');
+  std::string out("\x93NUMPY\x01\x00", 8);
+  put<uint16_t>(out, static_cast<uint16_t>(header.size()));
+  return out + header;
+}
+
+std::string shapeOf(uint64_t n) {
+  return "(" + std::to_string(n) + ",)";
+}
+std::string shapeOf(uint64_t n, uint64_t m) {
+  return "(" + std::to_string(n) + ", " + std::to_string(m) + ")";
+}
+
+const std::string kClockDescr = "[('accumulator', '<f8'), ('serial', '<u8'), ('head', '<u4')]";
+
+std::string clockData(const State& state) {
+  std::string out;
+  for (const EmitterClock& c : state.clocks) {
+    uint64_t bits;
+    std::memcpy(&bits, &c.accumulator, 8);
+    put<uint64_t>(out, bits);
+    put<uint64_t>(out, c.serial);
+    put<uint32_t>(out, c.head);
+  }
+  return out;
+}
+
+std::string stateColumns(const State& state) {
+  std::string out;
+  out.reserve(state.particles.size() * 7 * sizeof(float));
+  for (const Particle& p : state.particles) {
+    const float row[7] = {p.px, p.py, p.pz, p.vx, p.vy, p.vz, p.age};
+    out.append(reinterpret_cast<const char*>(row), sizeof(row));
+  }
+  return out;
+}
+
+// -- ZIP (stored, ZIP64) ----------------------------------------------------------------
+
+constexpr uint32_t kLocalSignature = 0x04034b50, kCentralSignature = 0x02014b50,
+                   kEndSignature = 0x06054b50, kEnd64Signature = 0x06064b50,
+                   kLocatorSignature = 0x07064b50;
+constexpr uint16_t kZip64Extra = 0x0001, kVersion = 45;  // 4.5: ZIP64
+
+struct Member {
+  std::string name;  // "state.npy"
+  std::string data;
+};
+
+std::string zip(const std::vector<Member>& members) {
+  std::string out, central;
+  for (const Member& m : members) {
+    const uint64_t offset = out.size();
+    const uint32_t crc = crc32(m.data);
+    const uint64_t size = m.data.size();
+    put<uint32_t>(out, kLocalSignature);
+    put<uint16_t>(out, kVersion);
+    put<uint16_t>(out, 0);  // flags
+    put<uint16_t>(out, 0);  // stored
+    put<uint16_t>(out, 0);  // time
+    put<uint16_t>(out, 0x21);  // date: 1980-01-01
+    put<uint32_t>(out, crc);
+    put<uint32_t>(out, 0xFFFFFFFFu);  // sizes in the ZIP64 extra field
+    put<uint32_t>(out, 0xFFFFFFFFu);
+    put<uint16_t>(out, static_cast<uint16_t>(m.name.size()));
+    put<uint16_t>(out, 20);  // extra: id, size, two 8-byte sizes
+    out += m.name;
+    put<uint16_t>(out, kZip64Extra);
+    put<uint16_t>(out, 16);
+    put<uint64_t>(out, size);
+    put<uint64_t>(out, size);
+    out += m.data;
+
+    put<uint32_t>(central, kCentralSignature);
+    put<uint16_t>(central, kVersion);  // made by
+    put<uint16_t>(central, kVersion);  // needed
+    put<uint16_t>(central, 0);
+    put<uint16_t>(central, 0);
+    put<uint16_t>(central, 0);
+    put<uint16_t>(central, 0x21);
+    put<uint32_t>(central, crc);
+    put<uint32_t>(central, 0xFFFFFFFFu);
+    put<uint32_t>(central, 0xFFFFFFFFu);
+    put<uint16_t>(central, static_cast<uint16_t>(m.name.size()));
+    put<uint16_t>(central, 28);  // extra: id, size, sizes and the local header's offset
+    put<uint16_t>(central, 0);   // comment
+    put<uint16_t>(central, 0);   // disk
+    put<uint16_t>(central, 0);   // internal attributes
+    put<uint32_t>(central, 0);   // external attributes
+    put<uint32_t>(central, 0xFFFFFFFFu);  // offset in the extra field
+    central += m.name;
+    put<uint16_t>(central, kZip64Extra);
+    put<uint16_t>(central, 24);
+    put<uint64_t>(central, size);
+    put<uint64_t>(central, size);
+    put<uint64_t>(central, offset);
+  }
+  const uint64_t centralOffset = out.size();
+  out += central;
+  const uint64_t end64Offset = out.size();
+  put<uint32_t>(out, kEnd64Signature);
+  put<uint64_t>(out, 44);  // the record's size after this field
+  put<uint16_t>(out, kVersion);
+  put<uint16_t>(out, kVersion);
+  put<uint32_t>(out, 0);  // this disk
+  put<uint32_t>(out, 0);  // the central directory's disk
+  put<uint64_t>(out, members.size());
+  put<uint64_t>(out, members.size());
+  put<uint64_t>(out, central.size());
+  put<uint64_t>(out, centralOffset);
+  put<uint32_t>(out, kLocatorSignature);
+  put<uint32_t>(out, 0);
+  put<uint64_t>(out, end64Offset);
+  put<uint32_t>(out, 1);  // disks
+  put<uint32_t>(out, kEndSignature);
+  put<uint16_t>(out, 0);
+  put<uint16_t>(out, 0);
+  put<uint16_t>(out, 0xFFFF);  // counts, size and offset in the ZIP64 record
+  put<uint16_t>(out, 0xFFFF);
+  put<uint32_t>(out, 0xFFFFFFFFu);
+  put<uint32_t>(out, 0xFFFFFFFFu);
+  put<uint16_t>(out, 0);  // comment
+  return out;
+}
+
+// Reading: every offset and size checked against the bytes there are.
+class Reader {
+ public:
+  Reader(const std::string& bytes, std::string name) : b_(bytes), name_(std::move(name)) {}
+
+  [[noreturn]] void fail(const std::string& what) const { throw InvalidArgument(name_, what); }
+  const std::string& name() const { return name_; }
+
+  template <typename T>
+  T get(uint64_t at) const {
+    if (at > b_.size() || sizeof(T) > b_.size() - at) fail("truncated (a record runs past the end)");
+    uint64_t v = 0;
+    for (size_t i = 0; i < sizeof(T); ++i) v |= uint64_t(static_cast<unsigned char>(b_[at + i])) << (8 * i);
+    return static_cast<T>(v);
+  }
+  std::string slice(uint64_t at, uint64_t size) const {
+    if (at > b_.size() || size > b_.size() - at) fail("truncated (a member runs past the end)");
+    return b_.substr(at, size);
+  }
+
+  // The members of a stored (uncompressed) ZIP archive, ZIP64 or not (numpy's np.savez
+  // writes ZIP64 records only for large files; Lava always does).
+  std::map<std::string, std::string> members() const {
+    if (b_.size() < 22) fail("not a checkpoint (too short for a ZIP archive)");
+    const uint64_t end = b_.size() - 22;  // no archive comment: Lava and numpy write none
+    if (get<uint32_t>(end) != kEndSignature) {
+      if (b_.compare(0, 4, "PK\x03\x04") == 0) fail("truncated (no end of the ZIP archive)");
+      fail("not a checkpoint (not a ZIP archive)");
+    }
+    uint64_t count = get<uint16_t>(end + 10), at = get<uint32_t>(end + 16);
+    if (end >= 20 && get<uint32_t>(end - 20) == kLocatorSignature) {
+      const uint64_t end64 = get<uint64_t>(end - 20 + 8);
+      if (get<uint32_t>(end64) != kEnd64Signature) fail("not a checkpoint (a broken ZIP64 record)");
+      count = get<uint64_t>(end64 + 32);
+      at = get<uint64_t>(end64 + 48);
+    }
+    if (count > 64) fail("not a checkpoint (" + std::to_string(count) + " members)");
+    std::map<std::string, std::string> out;
+    for (uint64_t i = 0; i < count; ++i) {
+      if (get<uint32_t>(at) != kCentralSignature) fail("not a checkpoint (a broken directory)");
+      if (get<uint16_t>(at + 10) != 0)
+        fail("not a checkpoint (a compressed member; Lava reads stored ones, as np.savez writes)");
+      const uint32_t crc = get<uint32_t>(at + 16);
+      uint64_t compressed = get<uint32_t>(at + 20), size = get<uint32_t>(at + 24),
+               local = get<uint32_t>(at + 42);
+      const uint16_t nameLength = get<uint16_t>(at + 28), extraLength = get<uint16_t>(at + 30),
+                     commentLength = get<uint16_t>(at + 32);
+      const std::string name = slice(at + 46, nameLength);
+      // ZIP64: the fields that read 0xFFFFFFFF follow in the extra field, in this order.
+      for (uint64_t e = at + 46 + nameLength; e + 4 <= at + 46 + nameLength + extraLength;) {
+        const uint16_t id = get<uint16_t>(e), length = get<uint16_t>(e + 2);
+        if (id == kZip64Extra) {
+          uint64_t field = e + 4;
+          if (size == 0xFFFFFFFFu) size = get<uint64_t>(field), field += 8;
+          if (compressed == 0xFFFFFFFFu) compressed = get<uint64_t>(field), field += 8;
+          if (local == 0xFFFFFFFFu) local = get<uint64_t>(field);
+        }
+        e += 4 + uint64_t(length);
+      }
+      if (compressed != size) fail("not a checkpoint (member " + name + " is not stored)");
+      if (get<uint32_t>(local) != kLocalSignature) fail("not a checkpoint (a broken member)");
+      const uint64_t data =
+          local + 30 + get<uint16_t>(local + 26) + uint64_t(get<uint16_t>(local + 28));
+      std::string bytes = slice(data, size);
+      if (crc32(bytes) != crc) fail("CRC mismatch in " + name + " (the file is corrupt)");
+      out[name] = std::move(bytes);
+      at += 46 + uint64_t(nameLength) + extraLength + commentLength;
+    }
+    return out;
+  }
+
+ private:
+  const std::string& b_;
+  std::string name_;
+};
+
+// A member's .npy header (the dictionary's text) and where its data starts; versions 1.0 to
+// 3.0, as numpy writes them (it pads headers its own way).
+struct Npy {
+  std::string header;
+  size_t data = 0;
+};
+
+Npy npyOf(const Reader& r, const std::map<std::string, std::string>& members,
+          const std::string& member) {
+  const auto it = members.find(member + ".npy");
+  if (it == members.end()) r.fail("not a checkpoint (no " + member + " array)");
+  const std::string& b = it->second;
+  if (b.size() < 10 || b.compare(0, 6, "\x93NUMPY") != 0)
+    r.fail(member + " is not a .npy array");
+  const int major = static_cast<unsigned char>(b[6]);
+  const Reader field(b, r.name());
+  const uint64_t length = major == 1 ? field.get<uint16_t>(8) : field.get<uint32_t>(8);
+  const size_t start = major == 1 ? 10 : 12;
+  if (major < 1 || major > 3 || length > b.size() - start)
+    r.fail(member + " has a broken .npy header");
+  return {b.substr(start, length), size_t(start + length)};
+}
+
+// The data of `member`, after checking its header says `descr`, C order and `shape`.
+std::string npyData(const Reader& r, const std::map<std::string, std::string>& members,
+                    const std::string& member, const std::string& descr, const std::string& shape) {
+  const Npy npy = npyOf(r, members, member);
+  if (npy.header.find("'descr': " + descr) == std::string::npos ||
+      npy.header.find("'fortran_order': False") == std::string::npos ||
+      npy.header.find("'shape': " + shape) == std::string::npos)
+    r.fail(member + " is not " + descr + " of shape " + shape);
+  return members.at(member + ".npy").substr(npy.data);
+}
+
+// The first dimension a member's header gives ("'shape': (N," or "(N)").
+uint64_t leadingDimension(const Reader& r, const std::map<std::string, std::string>& members,
+                          const std::string& member) {
+  const std::string header = npyOf(r, members, member).header;
+  const size_t shape = header.find("'shape': (");
+  if (shape == std::string::npos) r.fail(member + " has no shape");
+  uint64_t n = 0;
+  size_t at = shape + 10, digits = 0;
+  while (at < header.size() && std::isdigit(static_cast<unsigned char>(header[at])) && digits < 19)
+    n = n * 10 + uint64_t(header[at++] - '0'), ++digits;
+  if (digits == 0) r.fail(member + " has no shape");
+  return n;
+}
+
+}  // namespace
+
+std::string checkpointBytes(const Scene& scene, const State& state) {
+  validate(scene);
+  checkState(scene, state);
+  const std::string format = bytesOf(&kCheckpointFormat, 1);
+  const std::string sceneText = toToml(scene);
+  std::string step;
+  put<uint64_t>(step, state.step);
+  const std::string clock = clockData(state);
+  const std::string particles = bytesOf(state.particles.data(), state.particles.size());
+  uint64_t checksum = kFnvOffset;
+  for (const std::string* part :
+       std::initializer_list<const std::string*>{&format, &sceneText, &step, &clock, &particles})
+    checksum = fnv1a(checksum, *part);
+  const uint64_t hash = stateHash(state.particles);
+  const uint64_t slots = state.particles.size();
+  std::vector<Member> members;
+  members.push_back({"format.npy", npyHeader("'<u4'", "(1,)") + format});
+  members.push_back({"scene.npy", npyHeader("'|u1'", shapeOf(sceneText.size())) + sceneText});
+  members.push_back({"step.npy", npyHeader("'<u8'", "()") + step});
+  members.push_back({"clock.npy", npyHeader(kClockDescr, shapeOf(state.clocks.size())) + clock});
+  members.push_back({"particles.npy", npyHeader("'<f4'", shapeOf(slots, 8)) + particles});
+  members.push_back({"state.npy", npyHeader("'<f4'", shapeOf(slots, 7)) + stateColumns(state)});
+  members.push_back({"hash.npy", npyHeader("'<u8'", "(1,)") + bytesOf(&hash, 1)});
+  members.push_back({"checksum.npy", npyHeader("'<u8'", "(1,)") + bytesOf(&checksum, 1)});
+  return zip(members);
+}
+
+void writeCheckpoint(const std::string& path, const Scene& scene, const State& state) {
+  const std::string bytes = checkpointBytes(scene, state);
+  const size_t slash = path.find_last_of('/');
+  std::string temp = (slash == std::string::npos ? std::string() : path.substr(0, slash + 1)) +
+                     ".lava-checkpoint-XXXXXX";
+  const int fd = mkstemp(temp.data());
+  if (fd < 0)
+    throw ResourceError("checkpoint: cannot create a file beside '" + path +
+                        "': " + std::strerror(errno));
+  size_t written = 0;
+  while (written < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+    if (n <= 0) break;
+    written += size_t(n);
+  }
+  const bool ok = written == bytes.size() && fsync(fd) == 0;
+  const int error = errno;
+  ::close(fd);
+  if (!ok || std::rename(temp.c_str(), path.c_str()) != 0) {
+    const int cause = ok ? errno : error;
+    std::remove(temp.c_str());
+    throw ResourceError("checkpoint: cannot write '" + path + "': " + std::strerror(cause));
+  }
+  chmod(path.c_str(), 0644);
+}
+
+Snapshot parseCheckpoint(const std::string& bytes, const std::string& name) {
+  const Reader r(bytes, name);
+  const auto members = r.members();
+  const std::string format = npyData(r, members, "format", "'<u4'", "(1,)");
+  uint32_t version = 0;
+  std::memcpy(&version, format.data(), std::min<size_t>(4, format.size()));
+  if (format.size() != 4) r.fail("not a checkpoint (a broken format array)");
+  if (version != kCheckpointFormat)
+    r.fail("checkpoint format " + std::to_string(version) + "; this Lava reads format " +
+           std::to_string(kCheckpointFormat));
+  const std::string sceneText =
+      npyData(r, members, "scene", "'|u1'", shapeOf(leadingDimension(r, members, "scene")));
+  const std::string step = npyData(r, members, "step", "'<u8'", "()");
+  const uint64_t emitters = leadingDimension(r, members, "clock");
+  const std::string clock = npyData(r, members, "clock", kClockDescr, shapeOf(emitters));
+  const uint64_t slots = leadingDimension(r, members, "particles");
+  const std::string particles = npyData(r, members, "particles", "'<f4'", shapeOf(slots, 8));
+  const std::string hash = npyData(r, members, "hash", "'<u8'", "(1,)");
+  const std::string checksum = npyData(r, members, "checksum", "'<u8'", "(1,)");
+  if (step.size() != 8 || clock.size() != emitters * 20 || particles.size() != slots * 32 ||
+      hash.size() != 8 || checksum.size() != 8)
+    r.fail("truncated (an array is shorter than its shape)");
+  uint64_t sum = kFnvOffset, expected = 0;
+  for (const std::string* part :
+       std::initializer_list<const std::string*>{&format, &sceneText, &step, &clock, &particles})
+    sum = fnv1a(sum, *part);
+  std::memcpy(&expected, checksum.data(), 8);
+  if (sum != expected) r.fail("checksum mismatch (the file is corrupt or was edited)");
+
+  Snapshot s;
+  try {
+    s.scene = parseScene(sceneText, name + " (its scene)");
+  } catch (const InvalidArgument& e) {
+    r.fail(std::string("its scene does not load: ") + e.what());
+  }
+  s.state.step = Reader(step, name).get<uint64_t>(0);
+  s.state.clocks.resize(emitters);
+  const Reader c(clock, name);
+  for (uint64_t k = 0; k < emitters; ++k) {
+    const uint64_t bits = c.get<uint64_t>(20 * k);
+    std::memcpy(&s.state.clocks[k].accumulator, &bits, 8);
+    s.state.clocks[k].serial = c.get<uint64_t>(20 * k + 8);
+    s.state.clocks[k].head = c.get<uint32_t>(20 * k + 16);
+  }
+  s.state.particles.resize(slots);
+  std::memcpy(s.state.particles.data(), particles.data(), particles.size());
+  uint64_t stored = 0;
+  std::memcpy(&stored, hash.data(), 8);
+  if (stateHash(s.state.particles) != stored) r.fail("state hash mismatch (the file is corrupt)");
+  try {
+    checkState(s.scene, s.state);
+  } catch (const InvalidArgument& e) {
+    r.fail(std::string("its state does not fit its scene: ") + e.what());
+  }
+  return s;
+}
+
+Snapshot readCheckpoint(const std::string& path) {
+  struct stat info {};
+  if (stat(path.c_str(), &info) != 0)
+    throw InvalidArgument(path, std::string("cannot read: ") + std::strerror(errno));
+  if (S_ISDIR(info.st_mode)) throw InvalidArgument(path, "is a folder, not a checkpoint");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InvalidArgument(path, std::string("cannot read: ") + std::strerror(errno));
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parseCheckpoint(bytes, path);
+}
+
+}  // namespace lava
