@@ -11,6 +11,7 @@
 #include "host/output.h"
 #include "lava/error.h"
 #include "lava/scene.h"
+#include "lava/version.h"
 #include "runtime.h"
 
 namespace {
@@ -53,6 +54,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Lava: a Vulkan compute-shader particle engine (the lava crater)", "lava"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "print help for every command");
+  app.set_version_flag("--version", std::string("lava ") + lava::versionString());
   std::vector<std::unique_ptr<lava::app::Command>> commands;
   commands.push_back(lava::app::makeDemo(app));
   commands.push_back(lava::app::makeSimulate(app));
@@ -79,6 +81,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "lava: %s\n", usageMessage(app, argc > 1 ? argv[1] : nullptr, e).c_str());

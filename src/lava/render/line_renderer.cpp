@@ -310,6 +310,10 @@ void LineRenderer::Impl::recordGlow(VkCommandBuffer commands, uint32_t frame,
   const uint32_t stride = params.grid.w;
   params.target.z = 1;  // the first chunk's splat resets the list
   for (const ParticleChunk& chunk : simulation.chunks()) {
+    if (params.target.z == 0)  // after the first chunk: its adds before this chunk's
+      detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                            VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                            VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
     params.grid.z = chunk.count;
     bind(chunk.texels);
     c.vk.CmdDispatch(
