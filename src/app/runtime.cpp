@@ -45,6 +45,7 @@ DeviceOptions deviceOptions(std::optional<unsigned> device) {
 }
 
 int finish(Device& device, int status) {
+  device.waitIdle();  // a device lost at the end is an error too (VulkanError: exit 1)
   const auto messages = device.takeValidationMessages();
   for (const std::string& m : messages) std::fprintf(stderr, "lava: validation: %s\n", m.c_str());
   return messages.empty() ? status : 1;

@@ -142,7 +142,11 @@ void Submitter::endAndWait(VkCommandBuffer commands) const {
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &commands;
   HOST_CHECK(vkQueueSubmit(device_.handles().queue, 1, &submit, fence));
-  HOST_CHECK(vkWaitForFences(device, 1, &raw, VK_TRUE, UINT64_MAX));
+  const VkResult waited = vkWaitForFences(device, 1, &raw, VK_TRUE, UINT64_MAX);
+  if (waited != VK_SUCCESS) {
+    vkDeviceWaitIdle(device);  // the work may still run: free nothing it uses before
+    throw VulkanError(waited, "vkWaitForFences", __FILE__, __LINE__);
+  }
 }
 
 }  // namespace lava::host

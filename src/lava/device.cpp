@@ -40,7 +40,7 @@ VkCommandBuffer DeviceContext::beginOneShot() const {
   const VkResult began = vk.BeginCommandBuffer(commands, &begin);
   if (began != VK_SUCCESS) {
     vk.FreeCommandBuffers(device(), pool, 1, &commands);
-    VK_CHECK(began);
+    VK_CHECK_RESULT(began, "vkBeginCommandBuffer");
   }
   return commands;
 }
@@ -64,7 +64,12 @@ void DeviceContext::submitAndWait(VkCommandBuffer commands) const {
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &commands;
   VK_CHECK(vk.QueueSubmit(handles.queue, 1, &submit, fence));
-  VK_CHECK(vk.WaitForFences(device(), 1, &fence, VK_TRUE, UINT64_MAX));
+  const VkResult waited = vk.WaitForFences(device(), 1, &fence, VK_TRUE, UINT64_MAX);
+  if (waited != VK_SUCCESS) {
+    // The work may still run: nothing it uses is freed before the device is idle (or lost).
+    vk.DeviceWaitIdle(device());
+    VK_CHECK_RESULT(waited, "vkWaitForFences");
+  }
 }
 
 void DeviceContext::describe() {
@@ -245,7 +250,7 @@ void createInstance(DeviceContext& c, const DeviceOptions& options) {
   if (created == VK_ERROR_INCOMPATIBLE_DRIVER)
     throw ResourceError(
         "no Vulkan driver found (install one, e.g. Debian's mesa-vulkan-drivers for lavapipe)");
-  VK_CHECK(created);
+  VK_CHECK_RESULT(created, "vkCreateInstance");
   vk.loadInstance(c.handles.instance);
   if (options.validation) {
     messenger.pNext = nullptr;

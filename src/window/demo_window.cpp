@@ -480,7 +480,11 @@ class Demo {
     FrameSlot& slot = slots_[index];
     VkFence fence = slot.inFlight;
     VkDevice device = device_.handles().device;
-    HOST_CHECK(vkWaitForFences(device, 1, &fence, VK_TRUE, UINT64_MAX));
+    if (const VkResult waited = vkWaitForFences(device, 1, &fence, VK_TRUE, UINT64_MAX);
+        waited != VK_SUCCESS) {
+      vkDeviceWaitIdle(device);  // the frames in flight may still run
+      throw VulkanError(waited, "vkWaitForFences", __FILE__, __LINE__);
+    }
     readTimings(slot, index);
 
     const host::FrameTarget target = presenter_->acquire(index);

@@ -247,7 +247,12 @@ bool ShmPresenter::submitAndPresent(VkCommandBuffer commands, VkFence done, uint
 void ShmPresenter::flush() {
   if (!pending_) return;
   pending_ = false;
-  HOST_CHECK(vkWaitForFences(device_.handles().device, 1, &pendingDone_, VK_TRUE, UINT64_MAX));
+  if (const VkResult waited =
+          vkWaitForFences(device_.handles().device, 1, &pendingDone_, VK_TRUE, UINT64_MAX);
+      waited != VK_SUCCESS) {
+    vkDeviceWaitIdle(device_.handles().device);  // the frame may still run
+    throw VulkanError(waited, "vkWaitForFences", __FILE__, __LINE__);
+  }
   put(pendingSlot_);
 }
 

@@ -11,9 +11,11 @@ UniqueMemory allocateMemory(const DeviceContext& c, VkDeviceSize size, uint32_t 
   VkDeviceMemory memory = VK_NULL_HANDLE;
   const VkResult allocated = c.vk.AllocateMemory(c.device(), &alloc, c.allocator(), &memory);
   if (allocated == VK_ERROR_OUT_OF_DEVICE_MEMORY || allocated == VK_ERROR_OUT_OF_HOST_MEMORY)
-    throw ResourceError("out of memory allocating " + std::to_string(size >> 20) +
-                        " MiB on the Vulkan device (" + resultName(allocated) + ")");
-  VK_CHECK(allocated);
+    throw ResourceError("out of memory: vkAllocateMemory of " +
+                        (size >= (VkDeviceSize{1} << 20) ? std::to_string(size >> 20) + " MiB"
+                                                         : std::to_string(size) + " bytes") +
+                        " on the Vulkan device failed with " + resultName(allocated));
+  VK_CHECK_RESULT(allocated, "vkAllocateMemory");
   return UniqueMemory(c, memory);
 }
 
