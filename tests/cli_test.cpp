@@ -503,7 +503,7 @@ TEST(Validate, SaysBitExactOnLavapipe) {
   EXPECT_NE(r.out.find("validate: PASS"), std::string::npos);
   const std::string table = readFile(csv);
   EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 7) << table;  // header + 6 checkpoints
-  EXPECT_NE(table.find("3000,20000,20000,0,0,0"), std::string::npos) << table;
+  EXPECT_NE(table.find("3000,20000,20000,20000,0,0,0"), std::string::npos) << table;  // all alive
 }
 
 // A suite of two passing cases and a canary, which fails on purpose after step 150.
@@ -668,17 +668,73 @@ TEST(Environment, CpuBackendNeedsNoVulkan) {
 }
 
 TEST(Render, VideoEncodesWithFfmpegOrSaysItIsMissing) {
-  const std::string folder = scratch("video"), clip = scratch("video.mp4");
-  const bool ffmpeg = std::system("command -v ffmpeg >/dev/null 2>&1") == 0;
-  const Result r = lava("render --frames 4 --size 64x48 --out " + folder + " --video " + clip);
-  if (ffmpeg) {  // ffmpeg is not a dependency: both behaviours are the contract
-    EXPECT_EQ(r.status, 0) << r.err;
-    EXPECT_GT(readFile(clip).size(), 100u);
-  } else {
-    EXPECT_EQ(r.status, 2);
-    EXPECT_NE(r.err.find("--video"), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("ffmpeg"), std::string::npos) << r.err;
+  // Both branches in every run: ffmpeg missing from the PATH, and a stand-in ffmpeg that
+  // records what it was given (no shell between: a quote in a path is just a character);
+  // then the real one where it is installed (it is not a dependency).
+  const std::string bin = scratch("fakebin"), calls = scratch("ffmpeg_args.txt");
+  ASSERT_EQ(run("mkdir -p " + bin).status, 0);
+  {
+    std::ofstream fake(bin + "/ffmpeg");
+    fake << "#!/bin/sh\n: > '" << calls << "'\nfor a in \"$@\"; do printf '%s\\n' \"$a\" >> '"
+         << calls << "'; last=\"$a\"; done\nprintf 'mp4' > \"$last\"\n";
   }
+  ASSERT_EQ(run("chmod +x " + bin + "/ffmpeg").status, 0);
+  const std::string folder = scratch("it's frames"), clip = scratch("it's a clip.mp4");
+  run("rm -rf '" + scratch("it") + "'*");
+  // An earlier run's frames in the folder: only this run's 3 are encoded.
+  ASSERT_EQ(lava("render --frames 6 --size 64x48 --out \"" + folder + "\"").status, 0);
+  Result r = lava("render --frames 3 --size 65x49 --out \"" + folder + "\" --video \"" + clip + "\"",
+                  "env PATH=" + bin + ":/usr/bin:/bin ");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string args = readFile(calls);
+  EXPECT_NE(args.find(folder + "/frame_%05d.png\n"), std::string::npos) << args;
+  EXPECT_NE(args.find("-frames:v\n3\n"), std::string::npos) << args;
+  EXPECT_NE(args.find("pad=ceil(iw/2)*2:ceil(ih/2)*2"), std::string::npos) << args;
+  EXPECT_EQ(readFile(clip), "mp4") << "the clip renamed into place";
+  // No ffmpeg: a usage error naming --video, and no frames rendered for nothing.
+  r = lava("render --frames 4 --size 64x48 --out " + scratch("noffmpeg") + " --video " +
+               scratch("none.mp4"),
+           "env PATH=/nonexistent ");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--video"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("ffmpeg"), std::string::npos) << r.err;
+  EXPECT_NE(access(scratch("noffmpeg").c_str(), F_OK), 0) << "no empty folder left";
+  if (std::system("command -v ffmpeg >/dev/null 2>&1") == 0) {  // the real one, odd size
+    const std::string real = scratch("real.mp4");
+    r = lava("render --frames 3 --size 65x49 --out \"" + folder + "\" --video " + real);
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_GT(readFile(real).size(), 100u);
+  }
+}
+
+TEST(Render, AUsageErrorLeavesNoFolderBehind) {
+  const std::string folder = scratch("never");
+  run("rm -rf " + folder);
+  EXPECT_EQ(lava("render --frames 2 --size 20000x20000 --out " + folder).status, 2);
+  EXPECT_EQ(lava("render --frames 2 --fps 0 --out " + folder).status, 2);
+  EXPECT_NE(access(folder.c_str(), F_OK), 0);
+}
+
+TEST(Help, VersionPrintsTheLibrarysVersion) {
+  const Result r = lava("--version");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_EQ(r.out.rfind("lava 0.", 0), 0u) << r.out;
+}
+
+TEST(Help, UnknownFlagsAndKeysSuggestTheNearest) {
+  Result r = lava("simulate --steps 1 --emitter_radius 0.2");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--emitter_radius: unknown flag; did you mean --emitter-radius?"),
+            std::string::npos)
+      << r.err;
+  const std::string scene = writeScene("typo.toml", "[[emitter]]\nradus = 0.2\n");
+  r = lava("simulate --steps 1 --scene " + scene);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("did you mean radius?"), std::string::npos) << r.err;
+  r = lava("bench --particles 1000");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--particles: bench sets the counts with --sizes"), std::string::npos)
+      << r.err;
 }
 
 TEST(Info, ListsTheDeviceAndTheLargestParticleCount) {

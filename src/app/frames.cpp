@@ -39,13 +39,26 @@ void checkSize(const Device& device, VkExtent2D size) {
 
 std::string outputFolder(const std::string& source, const std::string& path) {
   if (path.empty()) throw host::UsageError(source + ": expected a folder, got ''");
-  if (mkdir(path.c_str(), 0755) != 0 && errno != EEXIST)
-    throw host::UsageError(source + ": cannot create folder '" + path +
-                           "': " + std::strerror(errno));
   struct stat info {};
-  if (stat(path.c_str(), &info) != 0 || !S_ISDIR(info.st_mode) || access(path.c_str(), W_OK) != 0)
-    throw host::UsageError(source + ": '" + path + "' is not a writable folder");
+  if (stat(path.c_str(), &info) == 0) {
+    if (!S_ISDIR(info.st_mode) || access(path.c_str(), W_OK) != 0)
+      throw host::UsageError(source + ": '" + path + "' is not a writable folder");
+    return path;
+  }
+  // Created when the frames are written, not before: a usage error leaves no folder behind.
+  const size_t slash = path.find_last_of('/', path.find_last_not_of('/'));
+  const std::string parent =
+      slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+  if (stat(parent.c_str(), &info) != 0 || !S_ISDIR(info.st_mode) ||
+      access(parent.c_str(), W_OK) != 0)
+    throw host::UsageError(source + ": cannot create folder '" + path + "': '" + parent +
+                           "' is not a writable folder");
   return path;
+}
+
+void createOutputFolder(const std::string& path) {
+  if (mkdir(path.c_str(), 0755) != 0 && errno != EEXIST)
+    throw host::UsageError("--out: cannot create folder '" + path + "': " + std::strerror(errno));
 }
 
 LineMode parseLineMode(const std::string& source, const std::string& text) {
@@ -87,6 +100,7 @@ LineMode defaultLineMode(uint64_t particles) {
 
 double renderFrames(Device& device, const Scene& scene, const FramePlan& plan) {
   checkSize(device, plan.size);
+  createOutputFolder(plan.folder);
   GpuSimulation simulation(device, scene);
   host::FrameRenderer renderer(device, host::OffscreenTarget::kColorFormat, 1, plan.look.style);
   renderer.setLineMode(plan.lines);

@@ -2,8 +2,10 @@
 // 2 bad usage or bad input (one line naming the flag and what it accepts).
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -18,8 +20,54 @@ namespace {
 
 // CLI11's messages, in the form every other usage error takes: the flag, then what is
 // accepted. A repeated flag and a flag without its value are the two it words its own way.
+// Levenshtein distance, for "did you mean".
+size_t distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// The flag of `command` nearest to `given` (a typo, `_` for `-`), or "".
+std::string nearestFlag(const CLI::App& app, const char* command, const std::string& given) {
+  std::string best;
+  size_t bestDistance = 4;  // at most 3 edits away
+  std::string normalised = given;
+  std::replace(normalised.begin(), normalised.end(), '_', '-');
+  for (const CLI::App* sub : app.get_subcommands({}))
+    if (command && sub->get_name() == command)
+      for (const CLI::Option* option : sub->get_options()) {
+        for (const std::string& name : option->get_lnames()) {
+          const size_t d = distance(normalised, "--" + name);
+          if (d < bestDistance) bestDistance = d, best = "--" + name;
+        }
+      }
+  return best;
+}
+
 std::string usageMessage(const CLI::App& app, const char* command, const CLI::ParseError& error) {
   const std::string what = error.what();
+  static const std::regex unexpected(R"(^The following arguments? (?:was|were) not expected: (.*)$)");
+  std::smatch u;
+  std::string flag;
+  if (std::regex_match(what, u, unexpected)) {
+    std::istringstream words(u[1].str());
+    for (std::string w; words >> w;)
+      if (w.rfind("--", 0) == 0 && flag.empty()) flag = w;
+  }
+  if (!flag.empty()) {
+    const std::string near = nearestFlag(app, command, flag);
+    return flag + ": unknown flag" + (near.empty() ? "" : "; did you mean " + near + "?") +
+           " (see 'lava " + (command ? command : "") + " --help')";
+  }
   static const std::regex repeated(R"(^(-[-\w]+): At Most 1 required but received (\d+)$)");
   static const std::regex missing(R"(^(-[-\w]+): \d+ required \w+ missing$)");
   std::smatch m;

@@ -1,8 +1,15 @@
 // `lava render`: PNG frames of the lava crater with no display, from the same renderer the
 // window uses, drawn into an offscreen image; `--video` also encodes them with ffmpeg.
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "commands.h"
 #include "frames.h"
@@ -14,8 +21,40 @@
 namespace lava::app {
 namespace {
 
-bool haveFfmpeg() {
-  return std::system("command -v ffmpeg >/dev/null 2>&1") == 0;
+extern "C" char** environ;
+
+// ffmpeg on the PATH, found without a shell.
+std::string findFfmpeg() {
+  const char* path = std::getenv("PATH");
+  std::string dirs = path ? path : "/usr/bin:/bin";
+  size_t start = 0;
+  while (start <= dirs.size()) {
+    const size_t end = std::min(dirs.find(':', start), dirs.size());
+    const std::string candidate =
+        (end > start ? dirs.substr(start, end - start) : std::string(".")) + "/ffmpeg";
+    if (access(candidate.c_str(), X_OK) == 0) return candidate;
+    start = end + 1;
+  }
+  return "";
+}
+
+// Runs ffmpeg with `args` (no shell: any character in a path is just a character); its
+// exit status, or -1 when it could not start.
+int runFfmpeg(const std::string& ffmpeg, const std::vector<std::string>& args) {
+  std::vector<char*> argv;
+  argv.push_back(const_cast<char*>(ffmpeg.c_str()));
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, ffmpeg.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) return -1;
+  int status = 0;
+  if (waitpid(pid, &status, 0) < 0) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 class RenderCommand final : public Command {
@@ -57,7 +96,8 @@ class RenderCommand final : public Command {
         "video", "also encode FILE.mp4 with ffmpeg (must be installed)",
         [this](const std::string& src, const std::string& t) {
           host::checkOutputPath(src, t, ".mp4");
-          if (!haveFfmpeg())
+          ffmpeg_ = findFfmpeg();
+          if (ffmpeg_.empty())
             throw host::UsageError(src + ": needs ffmpeg on the PATH (Debian: apt install ffmpeg)");
           video_ = t;
         });
@@ -70,13 +110,22 @@ class RenderCommand final : public Command {
     std::printf("render: wrote %u frames (%ux%u) to %s/frame_*.png\n", plan_.frames,
                 plan_.size.width, plan_.size.height, plan_.folder.c_str());
     if (!video_.empty()) {
-      char command[1024];
-      std::snprintf(command, sizeof(command),
-                    "ffmpeg -loglevel error -y -framerate %g -i '%s/frame_%%05d.png' "
-                    "-c:v libx264 -pix_fmt yuv420p '%s' </dev/null",
-                    plan_.fps, plan_.folder.c_str(), video_.c_str());
-      if (std::system(command) != 0) {
-        std::fprintf(stderr, "lava: ffmpeg failed to encode '%s'\n", video_.c_str());
+      // Exactly this run's frames (an older run's may follow them in the folder), odd sizes
+      // padded to even (H.264 in yuv420p needs them), into a temporary renamed into place.
+      const size_t slash = video_.find_last_of('/');
+      const std::string temp = (slash == std::string::npos ? "" : video_.substr(0, slash + 1)) +
+                               ".lava-video-" + std::to_string(getpid()) + ".mp4";
+      char rate[32];
+      std::snprintf(rate, sizeof(rate), "%g", plan_.fps);
+      const int status = runFfmpeg(
+          ffmpeg_, {"-loglevel", "error", "-y", "-framerate", rate, "-start_number", "0", "-i",
+                    plan_.folder + "/frame_%05d.png", "-frames:v", std::to_string(plan_.frames),
+                    "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-pix_fmt",
+                    "yuv420p", "-f", "mp4", temp});
+      if (status != 0 || std::rename(temp.c_str(), video_.c_str()) != 0) {
+        std::remove(temp.c_str());
+        std::fprintf(stderr, "lava: ffmpeg failed to encode '%s'%s\n", video_.c_str(),
+                     status < 0 ? " (it did not start)" : "");
         return finish(device, 1);
       }
       std::printf("render: encoded %s\n", video_.c_str());
@@ -89,7 +138,7 @@ class RenderCommand final : public Command {
   Scene scene_;
   std::optional<unsigned> device_;
   FramePlan plan_;
-  std::string video_;
+  std::string video_, ffmpeg_;
 };
 
 }  // namespace

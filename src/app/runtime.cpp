@@ -52,12 +52,22 @@ int finish(Device& device, int status) {
 }
 
 Progress::Progress(std::string label, uint64_t total)
-    : label_(std::move(label)), total_(total), terminal_(isatty(STDOUT_FILENO) == 1) {}
+    : label_(std::move(label)),
+      total_(total),
+      terminal_(isatty(STDOUT_FILENO) == 1),
+      start_(std::chrono::steady_clock::now()) {}
 
 void Progress::update(uint64_t done) {
   if (!terminal_ || total_ == 0) return;
-  std::printf("\r%s %llu/%llu (%.0f%%)", label_.c_str(), static_cast<unsigned long long>(done),
-              static_cast<unsigned long long>(total_), 100.0 * double(done) / double(total_));
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  char eta[48] = "";
+  if (done > 0 && done < total_ && elapsed > 0.5)
+    std::snprintf(eta, sizeof(eta), ", %.0f s left",
+                  elapsed * double(total_ - done) / double(done) + 0.5);
+  std::printf("\r\033[K%s %llu/%llu (%.0f%%%s)", label_.c_str(),
+              static_cast<unsigned long long>(done), static_cast<unsigned long long>(total_),
+              100.0 * double(done) / double(total_), eta);
   std::fflush(stdout);
   shown_ = true;
 }

@@ -2,6 +2,7 @@
 // LAVA_VALIDATION turns the validation layer on), the report of validation messages, and
 // progress on a terminal.
 #pragma once
+#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -30,6 +31,7 @@ class Progress {
   uint64_t total_;
   bool terminal_;
   bool shown_ = false;
+  std::chrono::steady_clock::time_point start_;
 };
 
 std::string formatSeconds(double seconds);

@@ -70,6 +70,7 @@ class SimulateCommand final : public Command {
   }
 
   int run() override {
+    const auto begun = std::chrono::steady_clock::now();
     const std::optional<Snapshot> resumed = readResume(options_, scene_);
     options_.resolve();
     if (every_ && checkpoint_.empty())
@@ -137,11 +138,14 @@ class SimulateCommand final : public Command {
     }
     if (!out_.empty()) host::writeState(out_, state.particles);
     std::printf(
-        "simulate: %llu particles x %llu steps on %s in %s: %llu alive, %llu below ground, "
+        "simulate: %llu particles x %llu steps on %s in %s (and %s to set up): %llu alive, "
+        "%llu below ground, "
         "state hash %016llx%s%s\n",
         static_cast<unsigned long long>(scene_.particles()),
         static_cast<unsigned long long>(steps_), simulation->name().c_str(),
-        formatSeconds(seconds).c_str(), static_cast<unsigned long long>(alive),
+        formatSeconds(seconds).c_str(),
+        formatSeconds(std::chrono::duration<double>(start - begun).count()).c_str(),
+        static_cast<unsigned long long>(alive),
         static_cast<unsigned long long>(below),
         static_cast<unsigned long long>(stateHash(state.particles)), out_.empty() ? "" : ", wrote ",
         out_.c_str());

@@ -119,23 +119,25 @@ class ValidateCommand final : public Command {
                          : "",
                 gpu.name().c_str(), tolerance_);
     printDevice(device);
-    std::printf("%10s %21s %14s %14s %10s\n", "step", "equal particles", "max|dx| (m)",
-                "max|dv| (m/s)", "max ULP");
-    std::string table = "step,equal,particles,max_dx,max_dv,max_ulp\n";
+    std::printf("%10s %21s %10s %14s %14s %10s\n", "step", "bitwise-equal slots", "alive",
+                "max|dx| (m)", "max|dv| (m/s)", "max ULP");
+    std::string table = "step,equal,particles,alive,max_dx,max_dv,max_ulp\n";
     const ValidationReport report =
         validate(gpu, cpu, steps_, every_, tolerance_, [&](const Checkpoint& point) {
           const Comparison& c = point.comparison;
           char row[160];
-          std::snprintf(row, sizeof(row), "%10llu %10llu / %-8llu %14.6g %14.6g %10u\n",
+          std::snprintf(row, sizeof(row), "%10llu %10llu / %-8llu %10llu %14.6g %14.6g %10u\n",
                         static_cast<unsigned long long>(point.step),
                         static_cast<unsigned long long>(c.equal),
-                        static_cast<unsigned long long>(c.particles), double(c.maxDx),
+                        static_cast<unsigned long long>(c.particles),
+                        static_cast<unsigned long long>(c.alive), double(c.maxDx),
                         double(c.maxDv), c.maxUlp);
           std::fputs(row, stdout);
-          std::snprintf(row, sizeof(row), "%llu,%llu,%llu,%.9g,%.9g,%u\n",
+          std::snprintf(row, sizeof(row), "%llu,%llu,%llu,%llu,%.9g,%.9g,%u\n",
                         static_cast<unsigned long long>(point.step),
                         static_cast<unsigned long long>(c.equal),
-                        static_cast<unsigned long long>(c.particles), double(c.maxDx),
+                        static_cast<unsigned long long>(c.particles),
+                        static_cast<unsigned long long>(c.alive), double(c.maxDx),
                         double(c.maxDv), c.maxUlp);
           table += row;
         });

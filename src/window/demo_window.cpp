@@ -10,6 +10,8 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -460,7 +462,9 @@ class Demo {
       const host::OffscreenTarget target(device_, presenter_->extent());
       const host::Submitter submitter(device_);
       char name[64];
-      std::snprintf(name, sizeof(name), "lava-screenshot-%03u.png", screenshots_++);
+      do  // the next number no file has yet: an earlier run's screenshots stay
+        std::snprintf(name, sizeof(name), "lava-screenshot-%03u.png", screenshots_++);
+      while (access(name, F_OK) == 0 && screenshots_ < 100000);
       host::writePng(name, target.extent().width, target.extent().height,
                      host::renderOffscreen(submitter, offscreen, *simulation_, target, camera_));
       std::printf("demo: saved %s\n", name);

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include "keys.h"
 
 #include <cerrno>
@@ -355,6 +356,36 @@ std::string keyList(KeyTable table) {
   return list;
 }
 
+namespace {
+size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+}  // namespace
+
+std::string unknownKey(KeyTable table, const std::string& key, const std::string& extra) {
+  std::string normalised = key;
+  std::replace(normalised.begin(), normalised.end(), '_', '-');
+  std::string best;
+  size_t bestDistance = 3;  // at most 2 edits away
+  for (const KeyDef& d : keyDefs(table)) {
+    const size_t e = editDistance(normalised, d.key.name);
+    if (e < bestDistance) bestDistance = e, best = d.key.name;
+  }
+  return "unknown key" + (best.empty() ? std::string() : "; did you mean " + best + "?") +
+         " (accepted: " + extra + keyList(table) + ")";
+}
+
 }  // namespace lava::detail
 
 namespace lava {
@@ -374,7 +405,7 @@ const std::vector<SceneKey>& sceneKeys(KeyTable table) {
 void setSceneKey(Scene& scene, KeyTable table, size_t where, const std::string& key,
                  const std::string& value) {
   const detail::KeyDef* def = detail::findKey(table, key);
-  if (!def) throw InvalidArgument(key, "unknown key (accepted: " + detail::keyList(table) + ")");
+  if (!def) throw InvalidArgument(key, detail::unknownKey(table, key));
   if (table == KeyTable::Top) {
     if (def->emitterZero && scene.emitters.empty()) scene.emitters.resize(1);
   } else {

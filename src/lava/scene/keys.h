@@ -27,6 +27,8 @@ const std::vector<KeyDef>& keyDefs(KeyTable table);
 const KeyDef* findKey(KeyTable table, const std::string& key);
 // "particles, rate, ..." for messages.
 std::string keyList(KeyTable table);
+// "unknown key; did you mean <nearest>? (accepted: <extra><keys>)" for a key not in `table`.
+std::string unknownKey(KeyTable table, const std::string& key, const std::string& extra = "");
 
 // Shortest text that reads back as exactly this float / double.
 std::string formatFloat(float value);

@@ -68,7 +68,7 @@ void readTables(Scene& scene, const std::string& file, const char* prefix, KeyTa
     for (const auto& [key, node] : *entries) {
       const std::string name(key.str()), parameter = at + "." + name;
       const detail::KeyDef* def = findKey(table, name);
-      if (!def) throw InvalidArgument(parameter, "unknown key (accepted: " + keyList(table) + ")");
+      if (!def) throw InvalidArgument(parameter, detail::unknownKey(table, name));
       def->set(scene, i, parameter, keyText(parameter, node, def->key.kind));
     }
   }
@@ -128,8 +128,8 @@ Scene parseScene(const std::string& text, const std::string& file, const OtherKe
     const detail::KeyDef* def = findKey(KeyTable::Top, name);
     if (!def) {
       if (other && other(name, valueText(parameter, node))) continue;
-      throw InvalidArgument(parameter, "unknown key (accepted: format, " + keyList(KeyTable::Top) +
-                                           ", [[emitter]], [[force]], [[collider]])");
+      throw InvalidArgument(parameter, detail::unknownKey(KeyTable::Top, name, "format, ") +
+                                           " or the tables [[emitter]], [[force]], [[collider]]");
     }
     if (def->emitterZero && emitterTables)
       throw InvalidArgument(parameter, "set it in an [[emitter]] table (this file has them)");
