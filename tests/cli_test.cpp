@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <set>
 #include <sstream>
 
@@ -71,9 +72,28 @@ std::string caseName(const ::testing::TestParamInfo<BadInput>& info) {
 
 class HostileInput : public ::testing::TestWithParam<BadInput> {};
 
+// The paths a command line names after an output flag, and whether each exists now.
+std::map<std::string, bool> outputsOf(const std::string& args) {
+  std::map<std::string, bool> paths;
+  std::istringstream words(args);
+  std::string word, previous;
+  while (words >> word) {
+    for (const char* flag : {"--out", "--csv", "--json", "--video", "--junit", "--results",
+                             "--record", "--checkpoint"})
+      if (previous == flag) paths[word] = access(word.c_str(), F_OK) == 0;
+    previous = word;
+  }
+  return paths;
+}
+
 TEST_P(HostileInput, ExitsTwoWithOneLineNamingTheProblem) {
   const BadInput& c = GetParam();
+  const auto before = outputsOf(c.args);
   const Result r = lava(c.args);
+  for (const auto& [path, existed] : before)  // nothing created: no file, no empty folder
+    if (!existed) {
+      EXPECT_NE(access(path.c_str(), F_OK), 0) << c.args << " left " << path;
+    }
   EXPECT_EQ(r.status, 2) << c.args << "\nstderr: " << r.err;
   EXPECT_NE(r.err.find(c.mentions), std::string::npos) << c.args << "\nstderr: " << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
@@ -137,7 +157,6 @@ const BadInput kBadInputs[] = {
     {"simulate --steps 10 --out /nonexistent/dir/state.npy", "--out"},
     {"simulate --steps 10 --out state.txt", "--out"},
     {"simulate --steps 10 --device 99", "--device"},
-    {"simulate --steps 10 --particles 100000000", "--particles"},
     {"simulate --steps 10 --dt 1e-50", "--dt"},
     {"simulate --steps 10 --rate 1e400", "--rate"},
     {"simulate --steps 10 --velocity 1,2,3,", "--velocity"},
@@ -147,7 +166,6 @@ const BadInput kBadInputs[] = {
     {"validate --steps 10 --csv table.txt", "--csv"},
     {"info --device 42", "--device"},
     {"render --frames 2 --size 0x0 --out frames", "--size"},
-    {"render --frames 2 --size 20000x20000 --out frames", "--size"},
     {"render --frames 2 --size 640by480 --out frames", "--size"},
     {"render --frames 0 --out frames", "--frames"},
     {"render --frames 2 --fps 0 --out frames", "--fps"},
@@ -737,19 +755,72 @@ TEST(Help, UnknownFlagsAndKeysSuggestTheNearest) {
       << r.err;
 }
 
+// A number `lava info` prints after `label` (0 when it is missing).
+unsigned long long infoNumber(const std::string& info, const std::string& label) {
+  const size_t at = info.find(label);
+  return at == std::string::npos ? 0 : std::strtoull(info.c_str() + at + label.size(), nullptr, 10);
+}
+
 TEST(Info, ListsTheDeviceAndTheLargestParticleCount) {
   const Result r = lava("info");
   EXPECT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("llvmpipe"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("largest particle count"), std::string::npos);
+  // The selected device is one of those listed, by name.
+  const size_t selected = r.out.find("selected device ");
+  ASSERT_NE(selected, std::string::npos) << r.out;
+  const std::string line = r.out.substr(selected, r.out.find('\n', selected) - selected);
+  const std::string name = line.substr(line.find(": ") + 2);
+  EXPECT_NE(r.out.find("] " + name), std::string::npos) << r.out;
+  EXPECT_GT(infoNumber(r.out, "largest particle count"), 0u) << r.out;
+  EXPECT_GT(infoNumber(r.out, "maxImageDimension2D"), 0u) << r.out;
+}
+
+TEST(HostileInput, LimitsOfThisDeviceAreUsageErrors) {
+  // Past what this device holds, whatever it is: its largest particle count plus one, and an
+  // image one pixel past its limit (lavapipe: 67,108,864 and 16,384).
+  const Result info = lava("info");
+  const unsigned long long particles = infoNumber(info.out, "largest particle count");
+  const unsigned long long side = infoNumber(info.out, "maxImageDimension2D");
+  ASSERT_GT(particles, 0u);
+  ASSERT_GT(side, 0u);
+  Result r = lava("simulate --steps 10 --particles " + std::to_string(particles + 1));
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("--particles"), std::string::npos) << r.err;
+  const std::string folder = scratch("toolarge");
+  if (side < 65536) {
+    r = lava("render --frames 1 --size " + std::to_string(side + 1) + "x16 --out " + folder);
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("--size"), std::string::npos) << r.err;
+    EXPECT_NE(access(folder.c_str(), F_OK), 0);
+  }
 }
 
 TEST(Help, ExitsZeroAndListsCommands) {
+  // The command list is exactly the commands; each command's help lists the scene keys it
+  // takes (and every command takes --scene), with their defaults as typed, not as floats.
   const Result r = lava("--help");
   EXPECT_EQ(r.status, 0);
-  for (const char* command : {"demo", "simulate", "validate", "render", "bench", "info"})
-    EXPECT_NE(r.out.find(command), std::string::npos) << command;
-  EXPECT_EQ(lava("simulate --help").status, 0);
+  const size_t list = r.out.find("Subcommands:");
+  ASSERT_NE(list, std::string::npos) << r.out;
+  std::istringstream lines(r.out.substr(list));
+  std::string line;
+  std::set<std::string> listed;
+  std::getline(lines, line);
+  while (std::getline(lines, line)) {
+    std::istringstream words(line);
+    std::string first;
+    if (words >> first) listed.insert(first);
+  }
+  EXPECT_EQ(listed, (std::set<std::string>{"demo", "simulate", "validate", "render", "bench",
+                                           "info", "study"}));
+  for (const std::string& command : listed) {
+    const Result h = lava(command + " --help");
+    EXPECT_EQ(h.status, 0) << command;
+    EXPECT_NE(h.out.find("--scene"), std::string::npos) << command;
+    static const std::regex floatDigits(R"(\.[0-9]*0{5,}[1-9])");  // 0.001000000047
+    EXPECT_FALSE(std::regex_search(h.out, floatDigits)) << command << " prints a float's digits";
+  }
+  EXPECT_NE(lava("simulate --help").out.find("--dt NUM"), std::string::npos);
+  EXPECT_NE(lava("simulate --help").out.find("[0.001]"), std::string::npos);
 }
 
 }  // namespace

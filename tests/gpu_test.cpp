@@ -326,6 +326,68 @@ TEST_P(Modules, ResumeFromACheckpointBitForBit) {
     }
 }
 
+// Issue 17: behaviour the panel and embedders rely on.
+TEST_F(GpuTest, SceneChangesMidRunStayBitIdenticalToTheCpu) {
+  // The panel's live edits: parameters change between steps (rate, gravity, wind, drag, the
+  // ground, an emitter's velocity and a collider's place), on both backends alike.
+  Scene s = moduleScene("all");
+  GpuSimulation gpu(device(), s);
+  CpuSimulation cpu(s, 2);
+  for (int change = 0; change < 3; ++change) {
+    gpu.advance(400);
+    cpu.advance(400);
+    s.gravity = 9.81f + float(change);
+    s.wind = {0.3f * float(change), 0.0f, -0.2f};
+    s.drag = 0.05f * float(change + 1);
+    s.restitution = 0.3f + 0.1f * float(change);
+    s.emitters[0].rate = 2000.0 + 500.0 * change;
+    s.emitters[0].velocity.y = 5.0f + float(change);
+    if (!s.colliders.empty()) s.colliders[0].position.x = 0.1f * float(change);
+    gpu.setScene(s);
+    cpu.setScene(s);
+  }
+  gpu.advance(400);
+  cpu.advance(400);
+  const Comparison c = compare(s, gpu.state().particles, cpu.state().particles);
+  EXPECT_EQ(c.equal, c.particles) << "max ULP " << c.maxUlp;
+  // A restart (the panel's "restart with this scene"): a fresh simulation of the edited
+  // scene, both backends.
+  GpuSimulation again(device(), s);
+  CpuSimulation againCpu(s, 1);
+  again.advance(500);
+  againCpu.advance(500);
+  EXPECT_EQ(stateHash(again.state().particles), stateHash(againCpu.state().particles));
+}
+
+TEST_F(GpuTest, CpuThreadCountsOneToEightGiveTheSameBytes) {
+  const Scene s = moduleScene("all");
+  CpuSimulation one(s, 1);
+  one.advance(700);
+  const uint64_t expected = stateHash(one.state().particles);
+  for (unsigned threads = 2; threads <= 8; ++threads) {
+    CpuSimulation many(s, threads);
+    many.advance(700);
+    EXPECT_EQ(stateHash(many.state().particles), expected) << threads << " threads";
+  }
+}
+
+TEST_F(GpuTest, AStateOfTheWrongSizeIsRefusedByBothBackends) {
+  const Scene s = moduleScene("disc");
+  State wrong = initialState(s);
+  wrong.particles.pop_back();
+  GpuSimulation gpu(device(), s);
+  CpuSimulation cpu(s, 1);
+  EXPECT_THROW(gpu.setState(wrong), InvalidArgument);
+  EXPECT_THROW(cpu.setState(wrong), InvalidArgument);
+  wrong = initialState(s);
+  wrong.clocks.push_back({});
+  EXPECT_THROW(gpu.setState(wrong), InvalidArgument);
+  wrong = initialState(s);
+  wrong.clocks[0].head = s.emitters[0].particles;
+  EXPECT_THROW(gpu.setState(wrong), InvalidArgument);
+  EXPECT_THROW(cpu.setState(wrong), InvalidArgument);
+}
+
 INSTANTIATE_TEST_SUITE_P(Effects, Modules,
                          ::testing::Values("point", "disc", "sphere", "box", "attractor", "vortex",
                                            "plane", "sphere-collider", "box-collider", "cone",

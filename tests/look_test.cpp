@@ -264,6 +264,25 @@ TEST_F(LookTest, LinesAndSplatAgree) {
   EXPECT_NEAR(total[1] / total[0], 1.0, 0.05);
 }
 
+TEST_F(LookTest, SplatSumsStopAtTheirCapInsteadOfWrapping) {
+  // Just enough identical lines that a pixel's red sum passes 2^16 (its 16 bits): without
+  // the cap it would wrap to a dim red; with it the pixel stays saturated, as the graphics
+  // pipeline draws it.
+  Scene scene;
+  scene.lineScale = 0.3f;
+  const glm::vec3 v{0.8f, 0.0f, 0.0f};
+  const float red = lavaEnergy(v, 0.0f, 8.0f, 5.0f).r;
+  const uint32_t perLine = uint32_t(red * 128.0f + 0.5f);  // kSplatScale
+  const uint32_t n = 65536 / perLine + 1;
+  ASSERT_LT((n * perLine) % 65536, perLine) << "the wrapped sum would be below one line's";
+  const std::vector<Particle> lines(n, particle(kSkyPoint, v, 0.0f));
+  const auto splat = render(scene, lines, LineMode::Splat, kNoBloom);
+  const auto drawn = render(scene, lines, LineMode::Lines, kNoBloom);
+  const glm::ivec2 at(project(kSkyPoint + 0.5f * 0.3f * v));
+  EXPECT_GE(pixel(splat, at).x, 250) << n << " lines";
+  EXPECT_NEAR(pixel(splat, at).x, pixel(drawn, at).x, 6);
+}
+
 TEST_F(LookTest, CachedBackdropDrawsTheSameImage) {
   // The lava look's backdrop is cached and copied as the plain one is: the second frame of
   // an unchanged view looks exactly like the first.

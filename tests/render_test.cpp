@@ -223,6 +223,71 @@ TEST_F(RenderTest, CachedGroundDrawsTheSameImage) {
   }
 }
 
+TEST_F(RenderTest, CachedBackdropIsRedrawnWhenTheCraterOrTheSizeChanges) {
+  // Not only a camera move: a new crater (the emitter moved or widened, a collider added)
+  // and a new target size each draw the backdrop again, and the copy that follows matches.
+  Scene scene;
+  GpuSimulation simulation(device(), scene);
+  simulation.advance(500);
+  FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 1, LookStyle::Plain);
+  const OffscreenTarget target(device(), kSize);
+  host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
+  host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
+  ASSERT_TRUE(renderer.backdropReused());
+  const auto before = host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
+  scene.emitters[0].radius = 0.4f;
+  simulation.setScene(scene);
+  const auto wider = host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
+  EXPECT_FALSE(renderer.backdropReused());
+  EXPECT_NE(wider, before) << "a wider crater looks different";
+  EXPECT_EQ(host::renderOffscreen(*submitter_, renderer, simulation, target, camera_), wider);
+  EXPECT_TRUE(renderer.backdropReused());
+  Collider box;
+  box.type = ColliderType::Box;
+  box.position = {1.5f, 0.5f, 0.0f};
+  scene.colliders = {box};
+  GpuSimulation withBox(device(), scene);
+  withBox.setState(simulation.state());
+  host::renderOffscreen(*submitter_, renderer, withBox, target, camera_);
+  EXPECT_FALSE(renderer.backdropReused());
+  const OffscreenTarget smaller(device(), {200, 150});
+  host::renderOffscreen(*submitter_, renderer, withBox, smaller, camera_);
+  EXPECT_FALSE(renderer.backdropReused());
+  host::renderOffscreen(*submitter_, renderer, withBox, smaller, camera_);
+  EXPECT_TRUE(renderer.backdropReused());
+}
+
+TEST_F(RenderTest, SplatSaturatesInsteadOfBleedingGreenIntoRed) {
+  // 5,000 identical lines on the same pixels: far past what one pixel of the fixed-point
+  // sums holds (red stops at kSplatFull). The splat must show what the graphics pipeline
+  // shows, a saturated colour of the same hue (LookTest checks the wrap itself).
+  for (LookStyle style : {LookStyle::Plain, LookStyle::Lava}) {
+    SCOPED_TRACE(style == LookStyle::Lava ? "lava" : "plain");
+    Scene scene;
+    scene.emitters[0].particles = 5000;
+    scene.lineScale = 0.3f;
+    GpuSimulation simulation(device(), scene);
+    State state = initialState(scene);
+    for (Particle& p : state.particles) p = particle(kSkyPoint, {0.8f, 0.0f, 0.0f}, 0.0f);
+    simulation.setState(state);
+    std::vector<uint8_t> images[2];
+    for (int splat = 0; splat < 2; ++splat) {
+      FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 1, style);
+      renderer.setLineMode(splat ? LineMode::Splat : LineMode::Lines);
+      renderer.setSettings({1.0f, 0.0f, 0.1f});
+      const OffscreenTarget target(device(), kSize);
+      images[splat] = host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
+    }
+    const auto lines = brightestNear(images[0], project(kSkyPoint + 0.5f * 0.3f * glm::vec3(0.8f, 0, 0)));
+    const auto splat = brightestNear(images[1], project(kSkyPoint + 0.5f * 0.3f * glm::vec3(0.8f, 0, 0)));
+    // (8-bit blending of 5,000 lines stalls a few steps short of 255 where each adds less
+    // than half a step; the splat's one tone map of the sum does not.)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(splat[c], lines[c], 8) << "channel " << c;
+    EXPECT_GE(splat[0], 250);
+    EXPECT_GE(splat[1], style == LookStyle::Lava ? 250 : 140) << "green neither lost nor wrapped";
+  }
+}
+
 TEST_F(RenderTest, HostMemoryTargetDrawsTheSameImage) {
   // The MIT-SHM presenter renders into the X server's shared memory: a linear color image
   // over host memory must show what the usual target shows, and so must its fallback.

@@ -75,6 +75,11 @@ class DemoCommand final : public Command {
             s.frames, s.seconds, s.seconds > 0 ? s.frames / s.seconds : 0.0, s.size.width,
             s.size.height, static_cast<unsigned long long>(demo_.scene.particles()),
             s.device.c_str(), s.presentMode.c_str(), s.simulateMs, s.drawMs);
+        if (s.effects.any())
+          std::printf("demo: keys took effect: pause %u, step %u, reset %u, panel %u, "
+                      "screenshot %u\n",
+                      s.effects.pauses, s.effects.steps, s.effects.resets,
+                      s.effects.panelToggles, s.effects.screenshots);
         return s.validationMessages ? 1 : 0;
       } catch (const window::NoDisplay& e) {
         std::printf("demo: %s; rendering headless instead\n", e.what());

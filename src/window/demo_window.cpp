@@ -211,6 +211,7 @@ class Demo {
     summary.device = device_.properties().deviceName;
     summary.presentMode = presenter_->name();
     summary.simulateMs = simulateMs_;
+    summary.effects = effects_;
     summary.drawMs = drawMs_;
     for (const std::string& m : device_.takeValidationMessages()) {
       std::fprintf(stderr, "lava: validation: %s\n", m.c_str());
@@ -312,6 +313,7 @@ class Demo {
   uint32_t stepsFor(double frameSeconds) {
     if (stepOnce_) {
       stepOnce_ = false;
+      ++effects_.steps;
       return 1;
     }
     if (paused_) return 0;
@@ -329,6 +331,7 @@ class Demo {
       switch (key) {
         case GLFW_KEY_SPACE:
           paused_ = !paused_;
+          ++effects_.pauses;
           break;
         case GLFW_KEY_N:
           stepOnce_ = true;
@@ -341,6 +344,7 @@ class Demo {
           break;
         case GLFW_KEY_H:
           showUi_ = !showUi_;
+          ++effects_.panelToggles;
           break;
         case GLFW_KEY_ESCAPE:
           glfwSetWindowShouldClose(window_.handle, 1);
@@ -449,6 +453,7 @@ class Demo {
         simulation_->setState(initialState(scene_));
       }
       simulatedSeconds_ = 0.0;
+      if (reset_) ++effects_.resets;
       restart_ = reset_ = false;
       owedSeconds_ = 0.0;
     }
@@ -468,6 +473,7 @@ class Demo {
       host::writePng(name, target.extent().width, target.extent().height,
                      host::renderOffscreen(submitter, offscreen, *simulation_, target, camera_));
       std::printf("demo: saved %s\n", name);
+      ++effects_.screenshots;
     }
   }
 
@@ -555,6 +561,7 @@ class Demo {
   bool minimisedByExercise_ = false;
   bool paused_ = false, stepOnce_ = false, reset_ = false, restart_ = false, screenshot_ = false;
   std::vector<int> pressed_;  // GLFW keys pressed since the last frame, in order
+  DemoEffects effects_;
   bool showUi_ = true;
   float speed_ = 1.0f;
   double owedSeconds_ = 0.0;

@@ -35,6 +35,17 @@ struct DemoOptions {
   bool validation = false;
 };
 
+// What the keys and buttons did, counted where each takes effect.
+struct DemoEffects {
+  uint32_t pauses = 0;        // Space: pause toggled
+  uint32_t steps = 0;         // N: single steps taken
+  uint32_t resets = 0;        // R: the scene reset
+  uint32_t panelToggles = 0;  // H: the panel hidden or shown
+  uint32_t screenshots = 0;   // P: screenshots written
+
+  bool any() const { return pauses || steps || resets || panelToggles || screenshots; }
+};
+
 struct DemoSummary {
   uint32_t frames = 0;
   double seconds = 0.0;
@@ -44,6 +55,7 @@ struct DemoSummary {
   uint32_t validationMessages = 0;
   double simulateMs = 0.0;  // GPU time per frame (smoothed timestamps) of the simulation
   double drawMs = 0.0;      // and of the draw
+  DemoEffects effects;
 };
 
 // Runs the window until closed or `frames` are presented; throws NoDisplay when there is
