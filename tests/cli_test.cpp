@@ -9,6 +9,7 @@
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <regex>
@@ -30,9 +31,26 @@ std::string readFile(const std::string& path) {
   return s.str();
 }
 
-std::string scratch(const std::string& name) {
-  return ::testing::TempDir() + "lava_cli_" + std::to_string(getpid()) + "_" + name;
+// This process's scratch folder, removed when the tests end (a forked child sees the same).
+const std::string& scratchFolder() {
+  static const std::string folder = [] {
+    const std::string path = ::testing::TempDir() + "lava_cli_" + std::to_string(getpid()) + "/";
+    std::filesystem::create_directories(path);
+    return path;
+  }();
+  return folder;
 }
+
+std::string scratch(const std::string& name) { return scratchFolder() + name; }
+
+class RemoveScratch : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    std::error_code ignored;
+    std::filesystem::remove_all(scratchFolder(), ignored);
+  }
+};
+const auto* const removeScratch = ::testing::AddGlobalTestEnvironment(new RemoveScratch);
 
 // Runs a shell command line, capturing its exit status and output.
 Result run(const std::string& command) {
@@ -380,6 +398,49 @@ TEST(Checkpoint, SigintWritesItAndTheResumedRunMatchesTheUninterruptedOne) {
                 .status,
             0);
   EXPECT_EQ(readFile(resumed), readFile(straight));
+}
+
+TEST(Simulate, CtrlCSaysSoAndExits130LeavingNoFile) {
+  // Without --checkpoint: one line, exit 130, and the --out file not half written.
+  const std::string out = scratch("interrupted.npy"), err = scratch("ctrlc.err");
+  std::remove(out.c_str());
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    freopen(err.c_str(), "w", stderr);
+    execl(LAVA_EXE, LAVA_EXE, "simulate", "--particles", "20000", "--backend", "cpu",
+          "--threads", "1", "--steps", "1000000", "--out", out.c_str(),
+          static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  usleep(800 * 1000);
+  kill(child, SIGINT);
+  int raw = 0;
+  waitpid(child, &raw, 0);
+  ASSERT_TRUE(WIFEXITED(raw));
+  EXPECT_EQ(WEXITSTATUS(raw), 130);
+  EXPECT_NE(readFile(err).find("lava: interrupted"), std::string::npos);
+  EXPECT_NE(access(out.c_str(), F_OK), 0);
+}
+
+TEST(Simulate, TwoRunsWritingOneFileLeaveOneRunsWholeOutput) {
+  // Concurrent writers of the same --out: each writes a temporary of its own and renames it
+  // into place, so both succeed and the file is exactly one run's output.
+  const std::string out = scratch("shared.npy"), a = scratch("a.npy"), b = scratch("b.npy");
+  ASSERT_EQ(lava("simulate --steps 300 --seed 1 --out " + a).status, 0);
+  ASSERT_EQ(lava("simulate --steps 300 --seed 2 --out " + b).status, 0);
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    const Result r = run("(" + std::string(LAVA_EXE) + " simulate --steps 300 --seed 1 --out " +
+                         out + " & " + LAVA_EXE + " simulate --steps 300 --seed 2 --out " + out +
+                         " & wait)");
+    EXPECT_EQ(r.err, "");
+    const std::string got = readFile(out);
+    EXPECT_TRUE(got == readFile(a) || got == readFile(b)) << "attempt " << attempt;
+  }
+  // Their temporaries are <out>.XXXXXX beside it; none may be left.
+  EXPECT_EQ(run("(ls -A " + scratchFolder() + " | grep -c -F '" +
+                out.substr(out.rfind('/') + 1) + ".'; true)").out,
+            "0\n");
 }
 
 TEST(Checkpoint, DamagedFilesExitTwoAndOverwriteNothing) {

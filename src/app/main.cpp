@@ -2,7 +2,10 @@
 // 2 bad usage or bad input (one line naming the flag and what it accepts).
 #include <CLI/CLI.hpp>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <regex>
 #include <sstream>
@@ -96,9 +99,22 @@ std::string parameterMessage(const lava::InvalidArgument& e) {
   return e.what();
 }
 
+// Ctrl-C (or SIGTERM) in a command that does not take it itself (simulate --checkpoint
+// does): end the progress line, say so, exit 130 (143). Output files appear whole or not at
+// all (they are renamed into place); a temporary being written is removed.
+extern "C" void onInterrupt(int signal) {
+  lava::host::removePendingTemporary();
+  static const char message[] = "\r\033[K\nlava: interrupted\n";
+  const ssize_t written = write(STDERR_FILENO, message, sizeof(message) - 1);
+  (void)written;
+  _exit(signal == SIGINT ? 130 : 143);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::signal(SIGINT, onInterrupt);
+  std::signal(SIGTERM, onInterrupt);
   CLI::App app{"Lava: a Vulkan compute-shader particle engine (the lava crater)", "lava"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "print help for every command");

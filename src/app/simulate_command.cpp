@@ -87,10 +87,12 @@ class SimulateCommand final : public Command {
       simulation = std::make_unique<CpuSimulation>(scene_, threads);
     }
     if (resumed) simulation->setState(resumed->state);
-    if (!checkpoint_.empty()) {
-      interrupted = 0;
-      std::signal(SIGINT, onStopSignal);
-      std::signal(SIGTERM, onStopSignal);
+    interrupted = 0;
+    using Handler = void (*)(int);
+    Handler previousInt = SIG_DFL, previousTerm = SIG_DFL;  // the program's: say and exit
+    if (!checkpoint_.empty()) {  // instead: the checkpoint at the next step boundary
+      previousInt = std::signal(SIGINT, onStopSignal);
+      previousTerm = std::signal(SIGTERM, onStopSignal);
     }
 
     const auto start = std::chrono::steady_clock::now();
@@ -112,8 +114,8 @@ class SimulateCommand final : public Command {
       }
     }
     if (!checkpoint_.empty()) {
-      std::signal(SIGINT, SIG_DFL);
-      std::signal(SIGTERM, SIG_DFL);
+      std::signal(SIGINT, previousInt);
+      std::signal(SIGTERM, previousTerm);
     }
     if (interrupted) {
       const State state = saveCheckpoint(*simulation);

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -80,11 +81,32 @@ void checkStatePath(const std::string& flag, const std::string& path) {
   checkOutputPath(flag, path, path.substr(path.size() - 4));
 }
 
+namespace {
+// The temporary being written, for removePendingTemporary (a signal handler cannot take locks
+// or allocate; it reads a fixed buffer that is published only while complete).
+char pendingPath[4096];
+volatile std::sig_atomic_t pending = 0;
+
+struct PendingTemporary {
+  explicit PendingTemporary(const std::string& path) {
+    if (path.size() >= sizeof(pendingPath)) return;
+    std::memcpy(pendingPath, path.c_str(), path.size() + 1);
+    pending = 1;
+  }
+  ~PendingTemporary() { pending = 0; }
+};
+}  // namespace
+
+void removePendingTemporary() {
+  if (pending) unlink(pendingPath);
+}
+
 void writeFileAtomically(const std::string& path, const std::string& contents) {
   // A temporary of this run's own next to the file, so concurrent writers never share one.
   std::string temporary = path + ".XXXXXX";
   const int fd = mkstemp(temporary.data());
   if (fd < 0) throw ResourceError("cannot write '" + path + "': " + std::strerror(errno));
+  const PendingTemporary published(temporary);
   size_t written = 0;
   while (written < contents.size()) {
     const ssize_t n = ::write(fd, contents.data() + written, contents.size() - written);

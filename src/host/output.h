@@ -28,4 +28,8 @@ void writePng(const std::string& path, uint32_t width, uint32_t height,
               const std::vector<uint8_t>& rgba);
 void writeFileAtomically(const std::string& path, const std::string& contents);
 
+// From a signal handler (async-signal-safe): remove the temporary being written, if any, so
+// an interrupted write leaves nothing behind.
+void removePendingTemporary();
+
 }  // namespace lava::host

@@ -29,8 +29,10 @@ OwnedMemory allocate(const Device& device, VkDeviceSize size, uint32_t type, con
   VkDeviceMemory memory = VK_NULL_HANDLE;
   const VkResult result = vkAllocateMemory(device.handles().device, &info, nullptr, &memory);
   if (result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY)
-    throw ResourceError("out of memory allocating " + std::to_string(size >> 20) +
-                        " MiB on the Vulkan device (" + resultName(result) + ")");
+    throw ResourceError("out of memory: vkAllocateMemory of " +
+                        (size >= (VkDeviceSize{1} << 20) ? std::to_string(size >> 20) + " MiB"
+                                                         : std::to_string(size) + " bytes") +
+                        " on the Vulkan device failed with " + resultName(result));
   HOST_CHECK(result);
   return OwnedMemory(device.handles().device, memory);
 }
