@@ -159,7 +159,9 @@ py::array_t<float> columns(const std::vector<lava::Particle>& particles) {
 std::unique_ptr<lava::Simulation> make(const std::string& backend, const Options& o) {
   if (backend == "gpu") return std::make_unique<lava::GpuSimulation>(device(o.device), o.scene);
   if (backend == "cpu") return std::make_unique<lava::CpuSimulation>(o.scene, o.threads);
-  throw py::value_error("backend: expected 'gpu' or 'cpu', got '" + backend + "'");
+  if (backend == "cpu-simd")
+    return std::make_unique<lava::CpuSimulation>(o.scene, o.threads, lava::CpuKernel::Simd);
+  throw py::value_error("backend: expected 'gpu', 'cpu' or 'cpu-simd', got '" + backend + "'");
 }
 
 // A running simulation for scripts: advance it, look at it.
@@ -228,8 +230,9 @@ PYBIND11_MODULE(_lava, m) {
         return columns(particles);
       },
       py::arg("steps"), py::arg("backend") = "gpu", py::arg("scene") = py::none(),
-      "Runs the scene for `steps` steps on the GPU (backend='gpu') or the CPU reference\n"
-      "('cpu') and returns the final state: float32, shape (particles, 7), columns\n"
+      "Runs the scene for `steps` steps on the GPU (backend='gpu'), the CPU reference\n"
+      "('cpu') or its SIMD twin ('cpu-simd', the same bytes) and returns the final state:\n"
+      "float32, shape (particles, 7), columns\n"
       "px py pz vx vy vz age (age -1: not alive). `scene`: a TOML scene file; keywords are\n"
       "the command line's flags with '-' written '_' (emitter_radius=0.2), plus device=N\n"
       "and threads=N (CPU). Bad values raise ValueError naming the parameter.");

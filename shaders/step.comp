@@ -302,6 +302,17 @@ struct State {
 // one landing on this slot is found arithmetically and its step by a binary search over
 // the running sums: the costly emission (hashes, rejection) runs once per dispatch, not
 // masked in every step as SIMD drivers such as lavapipe would.
+#ifdef LAVA_KERNEL_ONLY
+// The compute ceiling of `lava bench`: the same steps with no emission and no schedule, the
+// particles read once and written once for any number of steps (p.run.y).
+State load(uint local) {
+  Particle q = Particle(texelFetch(particleTexels, int(2u * local)),
+                        texelFetch(particleTexels, int(2u * local + 1u)));
+  State st = State(q.posAge.xyz, q.velMass.xyz, q.posAge.w, q.velMass.w, 0u, 0u);
+  if (st.age < 0.0) st.first = p.run.y;
+  return st;
+}
+#else
 State load(uint local) {
   const uint slot = p.chunk.x + local;
   uint k = 0u;
@@ -346,6 +357,7 @@ State load(uint local) {
   if (st.age < 0.0) st.first = steps;  // not alive and not born: not stepped, not stored
   return st;
 }
+#endif
 
 // Four particles per invocation, a + k * stride: their step chains are independent, so
 // interleaving them hides each one's latency (lavapipe runs one SIMD vector of invocations

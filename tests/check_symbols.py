@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Every symbol a library defines belongs to namespace lava, to a dependency (std, toml++,
-glm) or to the toolchain (crt, unwinding, switch tables). Reads `nm --defined-only`.
+glm, Highway) or to the toolchain (crt, unwinding, switch tables). Reads `nm --defined-only`.
 
     check_symbols.py liblava.so   -> exit 0, or 1 listing the strangers
 """
@@ -8,7 +8,7 @@ import re
 import subprocess
 import sys
 
-ALLOWED_NAMESPACES = {"lava", "std", "toml", "glm", "__gnu_cxx", "__cxxabiv1"}
+ALLOWED_NAMESPACES = {"lava", "std", "toml", "glm", "hwy", "__gnu_cxx", "__cxxabiv1"}
 TOOLCHAIN = re.compile(
     r"^(_DYNAMIC|_GLOBAL_OFFSET_TABLE_|__FRAME_END__|__GNU_EH_FRAME_HDR|__TMC_END__|"
     r"__do_global_dtors_aux(_fini_array_entry)?|__dso_handle|__frame_dummy_init_array_entry|"

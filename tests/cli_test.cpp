@@ -179,6 +179,8 @@ const BadInput kBadInputs[] = {
     {"simulate --steps 10 --rate 1e400", "--rate"},
     {"simulate --steps 10 --velocity 1,2,3,", "--velocity"},
     {"validate --steps 10 --tolerance-ulp -1", "--tolerance-ulp"},
+    {"validate --steps 10 --reference gpu", "--reference"},
+    {"bench --backends cpu,simd", "--backends"},
     {"validate --steps 10 --every 0", "--every"},
     {"validate --steps 0", "--steps"},
     {"validate --steps 10 --csv table.txt", "--csv"},
@@ -314,6 +316,11 @@ TEST(Simulate, GpuAndCpuBackendsWriteIdenticalFiles) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(readFile(gpu), readFile(cpuNpy));
   EXPECT_EQ(readFile(gpu).size(), 128u + 5000u * 7u * 4u);
+  const std::string simd = scratch("simd.npy");
+  const Result s = lava("simulate --steps 1500 --backend cpu-simd --threads 2 --out " + simd);
+  ASSERT_EQ(s.status, 0) << s.err;
+  EXPECT_EQ(readFile(simd), readFile(cpuNpy));
+  EXPECT_NE(s.out.find("cpu-simd "), std::string::npos) << s.out;
   EXPECT_EQ(readFile(cpu).substr(0, 22), "px,py,pz,vx,vy,vz,age\n");
   EXPECT_NE(r.out.find("1500 steps"), std::string::npos) << r.out;
 }
@@ -585,6 +592,20 @@ TEST(Validate, SaysBitExactOnLavapipe) {
   EXPECT_NE(table.find("3000,20000,20000,20000,0,0,0"), std::string::npos) << table;  // all alive
 }
 
+TEST(Validate, AgainstCpuSimdTheSameTable) {
+  // --reference cpu-simd: the faster CPU side gives the scalar reference's table.
+  const std::string a = scratch("ref.csv"), b = scratch("simd.csv");
+  const std::string args = "validate --scene " + std::string(LAVA_SOURCE_DIR) +
+                           "/scenes/volcano.toml --steps 600 --every 200 --csv ";
+  ASSERT_EQ(lava(args + a).status, 0);
+  const Result r = lava(args + b + " --reference cpu-simd");
+  EXPECT_EQ(r.status, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find(" vs cpu-simd "), std::string::npos) << r.out;
+  EXPECT_EQ(readFile(a), readFile(b));
+  EXPECT_NE(lava("validate --suite builtin --reference cpu-simd").out.find("vs cpu-simd"),
+            std::string::npos);
+}
+
 // A suite of two passing cases and a canary, which fails on purpose after step 150.
 const std::string kSuite = writeScene("suite.toml", R"(
 [[case]]
@@ -719,10 +740,13 @@ TEST(Bench, WritesTheJsonItPromises) {
   const std::string text = readFile(json);
   for (const char* key :
        {"\"device\"", "\"results\"", "\"backend\": \"gpu\"", "\"backend\": \"cpu\"",
-        "\"backend\": \"cpu-mt\"", "\"particles\": 8192", "\"steps\": 20", "\"updates_per_second\"",
-        "\"bytes_per_update\": 64", "\"roofline_fraction\""})
+        "\"backend\": \"cpu-mt\"", "\"backend\": \"cpu-simd\"", "\"backend\": \"cpu-simd-mt\"",
+        "\"particles\": 8192", "\"steps\": 20", "\"updates_per_second\"",
+        "\"bytes_per_update\": 64", "\"roofline_fraction\"", "\"compute_fraction\"",
+        "\"bound\": \"compute\""})
     EXPECT_NE(text.find(key), std::string::npos) << key << "\n" << text;
-  EXPECT_EQ(std::count(text.begin(), text.end(), '{'), 7) << text;  // 2 sizes x 3 backends
+  EXPECT_EQ(std::count(text.begin(), text.end(), '{'), 11) << text;  // 2 sizes x 5 backends
+  EXPECT_NE(r.out.find("x compute"), std::string::npos) << r.out;
 }
 
 TEST(Environment, NoVulkanDriverIsOneClearLine) {

@@ -6,6 +6,7 @@
 find_package(Vulkan REQUIRED)
 find_package(Threads REQUIRED)
 find_package(glm REQUIRED)
+find_package(hwy REQUIRED)  # Highway: the cpu-simd kernel
 # Only its header: Lava builds toml++ in header-only mode (no run-time library for users).
 find_path(TOMLPLUSPLUS_INCLUDE_DIR toml++/toml.h REQUIRED)
 find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)

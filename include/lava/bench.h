@@ -2,8 +2,12 @@
 #pragma once
 #include <cstdint>
 
+#include <vector>
+
 #include "device.h"
 #include "export.h"
+#include "simulation.h"
+#include "state.h"
 
 namespace lava {
 
@@ -15,5 +19,17 @@ constexpr double kBytesPerUpdate = 64.0;
 LAVA_API double gpuCopySeconds(Device& device, uint64_t particles, int passes = 9);
 // Seconds `threads` CPU threads take to copy `particles` particles (median of `passes`).
 LAVA_API double cpuCopySeconds(uint64_t particles, unsigned threads, int passes = 5);
+
+// The compute ceilings: updates/s of a backend's steps alone, with no emission and no
+// memory traffic, from `start` (the state a timed run starts from) for `steps` steps.
+// GPU: step.comp's steps (the scene's modules) for all of `start`, read and written once
+// per pass. CPU: the kernel's own loop on `threads` threads, each stepping blocks of
+// `start` that never leave L1. Medians of `passes` (CPU: of about `seconds` each).
+LAVA_API double gpuComputeUpdatesPerSecond(Device& device, const Scene& scene,
+                                           const std::vector<Particle>& start, uint32_t steps,
+                                           int passes = 3);
+LAVA_API double cpuComputeUpdatesPerSecond(const Scene& scene, const std::vector<Particle>& start,
+                                           uint64_t steps, unsigned threads, CpuKernel kernel,
+                                           int passes = 3, double seconds = 0.15);
 
 }  // namespace lava

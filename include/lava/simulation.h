@@ -30,7 +30,7 @@ class LAVA_API Simulation {
   virtual State state() = 0;
   // Blocking: replaces the state (checkState() first).
   virtual void setState(const State& state) = 0;
-  // "gpu (llvmpipe ...)", "cpu reference, 2 threads".
+  // "gpu (llvmpipe ...)", "cpu reference, 2 threads", "cpu-simd AVX2 (256-bit, 8 lanes), ...".
   virtual std::string name() const = 0;
 
  protected:
@@ -38,22 +38,34 @@ class LAVA_API Simulation {
   Scene scene_;
 };
 
-// The CPU reference, written apart from the shaders.
+// How the CPU backend computes a step. Both give the same bytes.
+enum class CpuKernel {
+  Reference,  // the oracle: plain float32 C++, one particle at a time
+  Simd,       // cpu-simd: the same operations on SIMD lanes (the widest the CPU runs)
+};
+
+// The instruction set CpuKernel::Simd uses on this CPU: "AVX3 (512-bit, 16 lanes)".
+LAVA_API std::string cpuSimdTarget();
+
+// The CPU backend: the reference written apart from the shaders, or its SIMD twin.
 class LAVA_API CpuSimulation final : public Simulation {
  public:
   // `threads` workers split the particles (1: the calling thread only, no thread created).
-  explicit CpuSimulation(const Scene& scene, unsigned threads = 1);
+  explicit CpuSimulation(const Scene& scene, unsigned threads = 1,
+                         CpuKernel kernel = CpuKernel::Reference);
   void advance(uint64_t steps) override;
   State state() override { return state_; }
   void setState(const State& state) override;
   std::string name() const override;
   unsigned threads() const { return threads_; }
+  CpuKernel kernel() const { return kernel_; }
   // The state in place (no copy), valid until the next call that changes it.
   const State& view() const { return state_; }
 
  private:
   State state_;
   unsigned threads_;
+  CpuKernel kernel_;
 };
 
 struct GpuSimulationOptions {

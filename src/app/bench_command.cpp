@@ -1,9 +1,11 @@
-// `lava bench`: updates per second of each backend against the roofline of a copy kernel
-// moving the bytes of one step, on the same device in the same run.
+// `lava bench`: updates per second of each backend against two ceilings measured on the
+// same device in the same run: a copy kernel moving the bytes of one step, and (CPU
+// backends) the same kernel's step alone on particles that never leave L1.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <functional>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <thread>
@@ -17,6 +19,8 @@
 namespace lava::app {
 namespace {
 
+constexpr const char* kBackends = "gpu,cpu,cpu-mt,cpu-simd,cpu-simd-mt";
+
 struct Row {
   std::string backend;
   uint64_t particles;
@@ -25,6 +29,10 @@ struct Row {
   double deviceUpdatesPerSecond;  // GPU: timestamp queries; CPU: same as end to end
   double copyGbps;                // the roofline kernel's bandwidth
   double rooflineFraction;        // device updates/s over copy bandwidth / bytes per update
+  uint64_t fused;                 // steps each particle takes per trip through memory
+  double computeUpdatesPerSecond;  // the step alone, no memory traffic
+  double computeFraction;          // device updates/s over that
+  const char* bound;               // the lower ceiling: "compute", "memory" or "-"
 };
 
 double secondsOf(const std::function<void()>& work) {
@@ -37,7 +45,8 @@ class BenchCommand final : public Command {
  public:
   explicit BenchCommand(CLI::App& app)
       : Command(
-            app.add_subcommand("bench", "updates/s of gpu, cpu and cpu-mt against the roofline")),
+            app.add_subcommand("bench", "updates/s of each backend against its copy and compute "
+                                        "rooflines")),
         options_(*command_) {
     options_.addSceneFlags(scene_, device_);
     options_.add(
@@ -52,7 +61,7 @@ class BenchCommand final : public Command {
                  [this](const std::string& src, const std::string& t) {
                    fused_ = static_cast<uint32_t>(parseInteger(src, t, 1, 256));
                  });
-    options_.add("backends", "comma-separated subset of gpu,cpu,cpu-mt [all]",
+    options_.add("backends", "comma-separated subset of " + std::string(kBackends) + " [all]",
                  [this](const std::string& src, const std::string& t) {
                    backends_ = parseBackends(src, t);
                  });
@@ -71,10 +80,13 @@ class BenchCommand final : public Command {
     Device context(deviceOptions(device_));
     const std::string device = context.properties().deviceName;
     const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-    std::printf("bench: %s, %llu steps, %u steps per dispatch, %u CPU threads for cpu-mt\n",
-                device.c_str(), static_cast<unsigned long long>(steps_), fused_, cores);
-    std::printf("%-7s %10s %16s %16s %9s %10s %9s\n", "backend", "particles", "updates/s",
-                "device upd/s", "GB/s", "copy GB/s", "x copy");
+    std::printf("bench: %s, %llu steps, %u steps per dispatch, %u CPU threads for -mt; "
+                "cpu-simd: %s\n",
+                device.c_str(), static_cast<unsigned long long>(steps_), fused_, cores,
+                cpuSimdTarget().c_str());
+    std::printf("%-11s %10s %12s %12s %8s %9s %7s %12s %9s %7s\n", "backend", "particles",
+                "updates/s", "device upd/s", "GB/s", "copy GB/s", "x copy", "compute upd/s",
+                "x compute", "bound");
     std::vector<Row> rows;
     for (uint32_t n : sizes_) {
       if (n > context.maxParticles())
@@ -85,13 +97,22 @@ class BenchCommand final : public Command {
       scene.emitters.at(0).particles = n;
       const State start = allAlive(scene);
       if (wants("gpu")) rows.push_back(benchGpu(context, scene, start));
-      if (wants("cpu")) rows.push_back(benchCpu(scene, start, 1, "cpu"));
-      if (wants("cpu-mt")) rows.push_back(benchCpu(scene, start, cores, "cpu-mt"));
+      if (wants("cpu")) rows.push_back(benchCpu(scene, start, 1, CpuKernel::Reference, "cpu"));
+      if (wants("cpu-mt"))
+        rows.push_back(benchCpu(scene, start, cores, CpuKernel::Reference, "cpu-mt"));
+      if (wants("cpu-simd"))
+        rows.push_back(benchCpu(scene, start, 1, CpuKernel::Simd, "cpu-simd"));
+      if (wants("cpu-simd-mt"))
+        rows.push_back(benchCpu(scene, start, cores, CpuKernel::Simd, "cpu-simd-mt"));
     }
     std::printf(
         "x copy: bytes the backend moved per second (64 per update) over the copy kernel's "
-        "bandwidth on the same device; above 1, fused steps keep particles in registers and "
-        "the step is bound by compute, not memory\n");
+        "bandwidth on the same device; above 1, fused steps keep particles in registers or "
+        "L1 between trips through memory\n"
+        "x compute: updates/s over the same kernel's steps alone, with no emission and no "
+        "memory traffic (CPU: blocks that never leave L1; GPU: one read and write per run); "
+        "bound: the lower ceiling, copy bandwidth x steps per trip through memory / "
+        "64 B, or compute\n");
     if (!json_.empty()) host::writeFileAtomically(json_, toJson(device, rows));
     return finish(context, 0);
   }
@@ -120,18 +141,28 @@ class BenchCommand final : public Command {
     double device = 0.0;
     const double wall = secondsOf([&] { device = sim.advanceTimed(steps_); });
     const double copy = gpuCopySeconds(context, scene.particles());
+    const double compute = gpuComputeUpdatesPerSecond(
+        context, scene, start.particles, static_cast<uint32_t>(std::max<uint64_t>(steps_, 64)));
     return report({"gpu", scene.particles(), steps_, updates(scene, wall), updates(scene, device),
-                   bandwidth(scene, copy), 0.0});
+                   bandwidth(scene, copy), 0.0, std::min<uint64_t>(steps_, fused_), compute,
+                   0.0, "-"});
   }
 
-  Row benchCpu(const Scene& scene, const State& start, unsigned threads, const char* name) {
-    CpuSimulation sim(scene, threads);
+  Row benchCpu(const Scene& scene, const State& start, unsigned threads, CpuKernel kernel,
+               const char* name) {
+    CpuSimulation sim(scene, threads, kernel);
     sim.setState(start);
     sim.advance(std::min<uint64_t>(steps_, 16));  // warm-up
     const double wall = secondsOf([&] { sim.advance(steps_); });
     const double copy = cpuCopySeconds(scene.particles(), threads);
+    // The compute ceiling does not depend on the particle count: measured once per row kind.
+    auto [ceiling, fresh] = computeCeilings_.try_emplace(name, 0.0);
+    if (fresh)
+      ceiling->second = cpuComputeUpdatesPerSecond(scene, start.particles, steps_, threads, kernel);
+    // A block stays in L1 for a whole batch of planned steps (4096 at most).
     return report({name, scene.particles(), steps_, updates(scene, wall), updates(scene, wall),
-                   bandwidth(scene, copy), 0.0});
+                   bandwidth(scene, copy), 0.0, std::min<uint64_t>(steps_, 4096),
+                   ceiling->second, 0.0, "-"});
   }
 
   double updates(const Scene& scene, double seconds) const {
@@ -143,10 +174,21 @@ class BenchCommand final : public Command {
 
   static Row report(Row row) {
     row.rooflineFraction = row.deviceUpdatesPerSecond * kBytesPerUpdate * 1e-9 / row.copyGbps;
-    std::printf("%-7s %10llu %16.4g %16.4g %9.2f %10.2f %8.2fx\n", row.backend.c_str(),
-                static_cast<unsigned long long>(row.particles), row.updatesPerSecond,
-                row.deviceUpdatesPerSecond, row.deviceUpdatesPerSecond * kBytesPerUpdate * 1e-9,
-                row.copyGbps, row.rooflineFraction);
+    const double memoryCeiling = row.copyGbps * 1e9 / kBytesPerUpdate * double(row.fused);
+    char compute[32] = "-", fraction[32] = "-";
+    if (row.computeUpdatesPerSecond > 0.0) {
+      row.computeFraction = row.deviceUpdatesPerSecond / row.computeUpdatesPerSecond;
+      row.bound = row.computeUpdatesPerSecond < memoryCeiling ? "compute" : "memory";
+      std::snprintf(compute, sizeof(compute), "%.4g", row.computeUpdatesPerSecond);
+      std::snprintf(fraction, sizeof(fraction), "%.2f", row.computeFraction);
+    } else if (row.fused == 1) {
+      row.bound = "memory";  // one step per trip: the copy ceiling is the step's own
+    }
+    std::printf("%-11s %10llu %12.4g %12.4g %8.2f %9.2f %6.2fx %12s %9s %7s\n",
+                row.backend.c_str(), static_cast<unsigned long long>(row.particles),
+                row.updatesPerSecond, row.deviceUpdatesPerSecond,
+                row.deviceUpdatesPerSecond * kBytesPerUpdate * 1e-9, row.copyGbps,
+                row.rooflineFraction, compute, fraction, row.bound);
     std::fflush(stdout);
     return row;
   }
@@ -164,7 +206,11 @@ class BenchCommand final : public Command {
           << ", \"updates_per_second\": " << r.updatesPerSecond
           << ", \"device_updates_per_second\": " << r.deviceUpdatesPerSecond
           << ", \"bytes_per_update\": " << kBytesPerUpdate << ", \"copy_gbps\": " << r.copyGbps
-          << ", \"roofline_fraction\": " << r.rooflineFraction << "}"
+          << ", \"roofline_fraction\": " << r.rooflineFraction
+          << ", \"steps_per_memory_trip\": " << r.fused
+          << ", \"compute_updates_per_second\": " << r.computeUpdatesPerSecond
+          << ", \"compute_fraction\": " << r.computeFraction << ", \"bound\": \"" << r.bound
+          << "\"}"
           << (i + 1 < rows.size() ? "," : "") << "\n";
     }
     out << "  ]\n}\n";
@@ -187,13 +233,14 @@ class BenchCommand final : public Command {
     std::vector<std::string> backends;
     std::stringstream stream(text);
     for (std::string item; std::getline(stream, item, ',');) {
-      if (item != "gpu" && item != "cpu" && item != "cpu-mt")
-        throw host::UsageError(
-            source + ": expected a comma-separated subset of gpu,cpu,cpu-mt, got '" + text + "'");
+      if (item != "gpu" && item != "cpu" && item != "cpu-mt" && item != "cpu-simd" &&
+          item != "cpu-simd-mt")
+        throw host::UsageError(source + ": expected a comma-separated subset of " + kBackends +
+                               ", got '" + text + "'");
       backends.push_back(item);
     }
     if (backends.empty())
-      throw host::UsageError(source + ": expected at least one of gpu,cpu,cpu-mt");
+      throw host::UsageError(source + ": expected at least one of " + std::string(kBackends));
     return backends;
   }
 
@@ -205,6 +252,7 @@ class BenchCommand final : public Command {
   uint32_t fused_ = 256;
   std::vector<std::string> backends_;
   std::string json_;
+  std::map<std::string, double> computeCeilings_;  // per row kind
 };
 
 }  // namespace

@@ -36,11 +36,15 @@ class SimulateCommand final : public Command {
           steps_ = parseInteger(src, t, 0, 1000000000);
         },
         true);
-    options_.add("backend", "gpu (the Vulkan device) or cpu (the reference) [gpu]",
+    options_.add("backend",
+                 "gpu (the Vulkan device), cpu (the reference) or cpu-simd (its SIMD twin, "
+                 "the same bytes) [gpu]",
                  [this](const std::string& src, const std::string& t) {
-                   if (t != "gpu" && t != "cpu")
-                     throw host::UsageError(src + ": expected gpu or cpu, got '" + t + "'");
+                   if (t != "gpu" && t != "cpu" && t != "cpu-simd")
+                     throw host::UsageError(src + ": expected gpu, cpu or cpu-simd, got '" + t +
+                                            "'");
                    gpu_ = t == "gpu";
+                   kernel_ = t == "cpu-simd" ? CpuKernel::Simd : CpuKernel::Reference;
                  });
     options_.add("threads", "CPU backend threads, 0 = all cores, 0..1024 [0]",
                  [this](const std::string& src, const std::string& t) {
@@ -84,7 +88,7 @@ class SimulateCommand final : public Command {
     } else {
       const unsigned threads =
           threads_ ? threads_ : std::max(1u, std::thread::hardware_concurrency());
-      simulation = std::make_unique<CpuSimulation>(scene_, threads);
+      simulation = std::make_unique<CpuSimulation>(scene_, threads, kernel_);
     }
     if (resumed) simulation->setState(resumed->state);
     interrupted = 0;
@@ -174,6 +178,7 @@ class SimulateCommand final : public Command {
   std::optional<unsigned> device_;
   uint64_t steps_ = 0;
   bool gpu_ = true;
+  CpuKernel kernel_ = CpuKernel::Reference;
   unsigned threads_ = 0;
   std::string out_;
   std::string checkpoint_;

@@ -100,9 +100,9 @@ class Canary final : public Simulation {
 }  // namespace
 
 std::unique_ptr<Simulation> referenceFor(const Scene& scene, std::optional<uint64_t> canary,
-                                         unsigned threads) {
+                                         unsigned threads, CpuKernel kernel) {
   if (canary) return std::make_unique<Canary>(scene, *canary, threads);
-  return std::make_unique<CpuSimulation>(scene, threads);
+  return std::make_unique<CpuSimulation>(scene, threads, kernel);
 }
 
 const char* statusName(Status status) {

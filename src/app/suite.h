@@ -42,9 +42,11 @@ std::vector<Case> builtinSuite(const Device& device);
 enum class Status { Pass, Fail, ExpectedFail, UnexpectedPass };
 const char* statusName(Status status);
 
-// The CPU reference of `scene`, nudged as `canary` says (or not at all).
+// The CPU reference of `scene` (computed by `kernel`), nudged as `canary` says (or not at
+// all; a canary always runs the scalar reference).
 std::unique_ptr<Simulation> referenceFor(const Scene& scene, std::optional<uint64_t> canary,
-                                         unsigned threads);
+                                         unsigned threads,
+                                         CpuKernel kernel = CpuKernel::Reference);
 
 struct CaseResult {
   std::string name;

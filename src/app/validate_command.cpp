@@ -40,6 +40,14 @@ class ValidateCommand final : public Command {
                  [this](const std::string& src, const std::string& t) {
                    tolerance_ = static_cast<uint32_t>(parseInteger(src, t, 0, 0x80000000u));
                  });
+    options_.add("reference",
+                 "what computes the CPU side: cpu (the scalar reference) or cpu-simd (its SIMD "
+                 "twin, the same bytes, faster for big scenes) [cpu]",
+                 [this](const std::string& src, const std::string& t) {
+                   if (t != "cpu" && t != "cpu-simd")
+                     throw host::UsageError(src + ": expected cpu or cpu-simd, got '" + t + "'");
+                   kernel_ = t == "cpu-simd" ? CpuKernel::Simd : CpuKernel::Reference;
+                 });
     options_.add("csv", "also write the table to FILE.csv",
                  [this](const std::string& src, const std::string& t) {
                    host::checkOutputPath(src, t, ".csv");
@@ -96,6 +104,10 @@ class ValidateCommand final : public Command {
   }
 
  private:
+  std::string referenceName() const {
+    return kernel_ == CpuKernel::Simd ? "cpu-simd " + cpuSimdTarget() : "cpu reference";
+  }
+
   void printDevice(const Device& device) const {
     std::printf("device: %s; %s\n", device.properties().deviceName, device.driver().c_str());
     std::printf("float controls: %s\n", device.floatControls().c_str());
@@ -105,19 +117,19 @@ class ValidateCommand final : public Command {
     if (every_ == 0) every_ = std::max<uint64_t>(1, steps_ / 10);
     Device device(deviceOptions(device_));
     GpuSimulation gpu(device, scene_);
-    CpuSimulation cpu(scene_, cores());
+    CpuSimulation cpu(scene_, cores(), kernel_);
     if (resumed_) {
       gpu.setState(resumed_->state);
       cpu.setState(resumed_->state);
     }
-    std::printf("validate: %llu particles, %llu steps%s, %s vs cpu reference, tolerance %u ULP\n",
+    std::printf("validate: %llu particles, %llu steps%s, %s vs %s, tolerance %u ULP\n",
                 static_cast<unsigned long long>(scene_.particles()),
                 static_cast<unsigned long long>(steps_),
                 resumed_ ? (" from step " + std::to_string(resumed_->state.step) + " of " +
                             options_.text("resume"))
                                .c_str()
                          : "",
-                gpu.name().c_str(), tolerance_);
+                gpu.name().c_str(), referenceName().c_str(), tolerance_);
     printDevice(device);
     std::printf("%10s %21s %10s %14s %14s %10s\n", "step", "bitwise-equal slots", "alive",
                 "max|dx| (m)", "max|dv| (m/s)", "max ULP");
@@ -206,7 +218,7 @@ class ValidateCommand final : public Command {
       }
       r.status = pass ? Status::Pass : Status::Fail;
     } else {
-      const std::unique_ptr<Simulation> cpu = referenceFor(scene, c.canary, cores());
+      const std::unique_ptr<Simulation> cpu = referenceFor(scene, c.canary, cores(), kernel_);
       cpu->setState(initial);
       const ValidationReport report = validate(gpu, *cpu, c.steps, every, c.toleranceUlp);
       for (const Checkpoint& point : report.checkpoints) {
@@ -230,7 +242,7 @@ class ValidateCommand final : public Command {
     if (!against_.empty()) recording = readRecording(against_);
     std::printf("validate: suite %s, %zu cases, %s vs %s\n", suite_.c_str(), cases.size(),
                 device.properties().deviceName,
-                recording ? ("hashes of " + against_).c_str() : "cpu reference");
+                recording ? ("hashes of " + against_).c_str() : referenceName().c_str());
     printDevice(device);
     std::vector<CaseResult> results;
     bool ok = true;
@@ -267,6 +279,7 @@ class ValidateCommand final : public Command {
   uint64_t steps_ = 0;
   uint64_t every_ = 0;
   uint32_t tolerance_ = 0;
+  CpuKernel kernel_ = CpuKernel::Reference;
   std::string csv_, suite_, junit_, results_, baseline_, record_, against_;
   std::optional<Snapshot> resumed_;  // --resume
 };

@@ -18,8 +18,8 @@ def program(tmp_path, *args):
     return np.load(out)
 
 
-def test_simulate_matches_the_programs_npy_on_both_backends(tmp_path):
-    for backend in ("gpu", "cpu"):
+def test_simulate_matches_the_programs_npy_on_every_backend(tmp_path):
+    for backend in ("gpu", "cpu", "cpu-simd"):
         state = lava.simulate(1500, backend=backend, emitter_radius=0.2, rate=3000)
         assert state.dtype == np.float32 and state.shape == (5000, 7)
         expected = program(tmp_path, "--steps", "1500", "--backend", backend,
@@ -31,7 +31,9 @@ def test_gpu_and_cpu_are_bit_identical_with_every_module(tmp_path):
     scene = os.path.join(SCENES, "volcano.toml")
     gpu = lava.simulate(800, scene=scene, integrator="velocity-verlet")
     cpu = lava.simulate(800, backend="cpu", scene=scene, integrator="velocity-verlet", threads=2)
-    assert gpu.tobytes() == cpu.tobytes()
+    simd = lava.simulate(800, backend="cpu-simd", scene=scene, integrator="velocity-verlet",
+                         threads=2)
+    assert gpu.tobytes() == cpu.tobytes() == simd.tobytes()
     assert np.array_equal(gpu, program(tmp_path, "--steps", "800", "--scene", scene,
                                        "--integrator", "velocity-verlet"))
 

@@ -1,5 +1,6 @@
-// The CPU reference over the rings: the host's emission schedule, then reference.cpp's
-// particle step, for blocks of particles at a time, split over the threads asked for.
+// The CPU backend over the rings: the host's emission schedule, then reference.cpp's
+// particle step (or simd.cpp's on lanes), for blocks of particles at a time, split over the
+// threads asked for.
 #include <algorithm>
 #include <cmath>
 #include <thread>
@@ -8,6 +9,7 @@
 #include "lava/error.h"
 #include "lava/simulation.h"
 #include "reference.h"
+#include "simd.h"
 
 namespace lava {
 
@@ -17,11 +19,21 @@ constexpr uint64_t kScheduleBatch = 4096;  // steps whose emission is planned at
 
 }  // namespace
 
-CpuSimulation::CpuSimulation(const Scene& scene, unsigned threads)
-    : Simulation(scene), state_(initialState(scene)), threads_(std::max(threads, 1u)) {}
+std::string cpuSimdTarget() {
+  return detail::simdTarget();
+}
+
+CpuSimulation::CpuSimulation(const Scene& scene, unsigned threads, CpuKernel kernel)
+    : Simulation(scene),
+      state_(initialState(scene)),
+      threads_(std::max(threads, 1u)),
+      kernel_(kernel) {
+  if (kernel_ == CpuKernel::Simd) detail::simdTarget();  // picks the target before any thread
+}
 
 std::string CpuSimulation::name() const {
-  return "cpu reference, " + std::to_string(threads_) + (threads_ == 1 ? " thread" : " threads");
+  return (kernel_ == CpuKernel::Simd ? "cpu-simd " + detail::simdTarget() : "cpu reference") +
+         ", " + std::to_string(threads_) + (threads_ == 1 ? " thread" : " threads");
 }
 
 void CpuSimulation::setState(const State& state) {
@@ -47,17 +59,24 @@ void CpuSimulation::advance(uint64_t steps) {
 
     // A block of particles goes through the steps together: their independent dependency
     // chains overlap in the CPU's pipeline, and the block stays in L1.
+    // cpu-simd: the block is moved into lanes once for the whole batch of steps.
     auto run = [&](uint64_t begin, uint64_t end) {
-      constexpr uint64_t kBlock = 32;
+      const bool simd = kernel_ == CpuKernel::Simd;
+      const uint64_t blockSize = simd ? detail::kSimdBlock : detail::kReferenceBlock;
       for (uint64_t first = begin; first < end;) {
         const size_t k = emitterOf(scene_, first);
         const uint64_t base = scene_.firstSlot(k);
         const uint64_t n =
-            std::min({kBlock, end - first, base + scene_.emitters[k].particles - first});
-        Particle block[kBlock];
-        std::copy_n(&state_.particles[first], n, block);
-        reference.run(k, schedule[k], static_cast<uint32_t>(first - base), block, n);
-        std::copy_n(block, n, &state_.particles[first]);
+            std::min({blockSize, end - first, base + scene_.emitters[k].particles - first});
+        const uint32_t slot = static_cast<uint32_t>(first - base);
+        if (simd) {
+          detail::simdRun(reference, k, schedule[k], slot, &state_.particles[first], n);
+        } else {
+          Particle block[detail::kReferenceBlock];
+          std::copy_n(&state_.particles[first], n, block);
+          reference.run(k, schedule[k], slot, block, n);
+          std::copy_n(block, n, &state_.particles[first]);
+        }
         first += n;
       }
     };

@@ -13,6 +13,9 @@
 
 namespace lava::detail {
 
+// Particles CpuSimulation steps together with the reference (they stay in L1).
+constexpr size_t kReferenceBlock = 32;
+
 class Reference {
  public:
   explicit Reference(const Scene& scene);
@@ -25,6 +28,12 @@ class Reference {
   // steps of `schedule`: each step's births, then the step.
   void run(size_t emitter, const std::vector<Births>& schedule, uint32_t first, Particle* slots,
            size_t count) const;
+
+  // The host constants, for the SIMD kernel (simd.cpp), which shares emit() with this one.
+  const Scene& scene() const { return scene_; }
+  const EmitterConstants& constants(size_t emitter) const { return emitters_[emitter]; }
+  const Vec3& planeNormal(size_t collider) const { return normals_[collider]; }
+  const ConeConstants& cone(size_t collider) const { return cones_[collider]; }
 
  private:
   // Euler: the seed's model (explicit Euler, no forces, colliders or lifetimes), the same

@@ -16,6 +16,7 @@ namespace lava::spirv {
 #include "resolve_vert.h"
 #include "splat_comp.h"
 #include "step_comp.h"
+#include "step_kernel_only.h"
 #include "step_plain.h"
 #include "step_rte.h"
 #include "step_signed_zero.h"

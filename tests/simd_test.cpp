@@ -1,0 +1,120 @@
+// cpu-simd (issue 15): the SIMD kernel gives the reference's bytes, on every module and on
+// random scenes drawing all of them, on 1 and 2 threads.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+
+#include "lava/lava.h"
+#include "sim/reference.h"
+#include "sim/simd.h"
+#include "test_scenes.h"
+
+namespace lava {
+namespace {
+
+// Same bytes (not only equal floats: -0 and NaN payloads count), same clocks.
+void expectSameBytes(const State& simd, const State& reference) {
+  ASSERT_EQ(simd.particles.size(), reference.particles.size());
+  size_t first = simd.particles.size();
+  for (size_t i = 0; i < simd.particles.size() && first == simd.particles.size(); ++i)
+    if (std::memcmp(&simd.particles[i], &reference.particles[i], sizeof(Particle)) != 0) first = i;
+  EXPECT_EQ(first, simd.particles.size()) << "first differing slot " << first;
+  ASSERT_EQ(simd.clocks.size(), reference.clocks.size());
+  for (size_t k = 0; k < simd.clocks.size(); ++k) {
+    EXPECT_EQ(simd.clocks[k].serial, reference.clocks[k].serial);
+    EXPECT_EQ(simd.clocks[k].head, reference.clocks[k].head);
+  }
+  EXPECT_EQ(simd.step, reference.step);
+}
+
+size_t alive(const State& state) {
+  size_t n = 0;
+  for (const Particle& p : state.particles) n += p.age >= 0.0f;
+  return n;
+}
+
+class SimdModules : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(SimdModules, GiveTheReferenceBytesOnOneAndTwoThreads) {
+  const Scene s = test::moduleScene(GetParam());
+  CpuSimulation reference(s, 2);
+  CpuSimulation one(s, 1, CpuKernel::Simd), two(s, 2, CpuKernel::Simd);
+  for (int checkpoint = 0; checkpoint < 3; ++checkpoint) {
+    reference.advance(1000);
+    one.advance(1000);
+    two.advance(1000);
+    SCOPED_TRACE(std::string(GetParam()) + ", checkpoint " + std::to_string(checkpoint));
+    expectSameBytes(one.state(), reference.state());
+    expectSameBytes(two.state(), reference.state());
+    EXPECT_GT(alive(reference.state()), 1000u);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Effects, SimdModules,
+                         ::testing::Values("point", "disc", "sphere", "box", "attractor", "vortex",
+                                           "plane", "sphere-collider", "box-collider", "cone",
+                                           "semi-implicit-euler", "velocity-verlet",
+                                           "bursts-lifetimes", "all"),
+                         [](const ::testing::TestParamInfo<const char*>& p) {
+                           std::string name = p.param;
+                           for (char& ch : name)
+                             if (ch == '-') ch = '_';
+                           return name;
+                         });
+
+TEST(Simd, RandomScenesOfEveryModuleGiveTheReferenceBytes) {
+  std::mt19937 rng(15);
+  for (int scene = 0; scene < 16; ++scene) {
+    const Scene s = test::randomModuleScene(rng);
+    ASSERT_NO_THROW(validate(s));
+    SCOPED_TRACE("scene " + std::to_string(scene) + ": " + std::to_string(s.forces.size()) +
+                 " forces, " + std::to_string(s.colliders.size()) + " colliders, " +
+                 name(s.integrator));
+    CpuSimulation reference(s, 1);
+    CpuSimulation one(s, 1, CpuKernel::Simd), two(s, 2, CpuKernel::Simd);
+    for (int checkpoint = 0; checkpoint < 2; ++checkpoint) {
+      reference.advance(700);
+      one.advance(700);
+      two.advance(700);
+      expectSameBytes(one.state(), reference.state());
+      expectSameBytes(two.state(), reference.state());
+    }
+  }
+}
+
+TEST(Simd, ResumesFromAReferenceStateAndBack) {
+  const Scene s = test::moduleScene("all");
+  CpuSimulation reference(s, 1), simd(s, 2, CpuKernel::Simd);
+  reference.advance(500);
+  simd.setState(reference.state());
+  reference.advance(500);
+  simd.advance(500);
+  expectSameBytes(simd.state(), reference.state());
+}
+
+TEST(Simd, TheComputeCeilingKernelIsTheSameStep) {
+  // The roofline microkernel steps a block in lanes: its bytes equal the scalar step's.
+  const Scene s = test::moduleScene("disc");
+  CpuSimulation fill(s, 1);
+  fill.advance(3000);
+  const State filled = fill.state();
+  std::vector<Particle> lanes(filled.particles.begin(),
+                              filled.particles.begin() + detail::kSimdBlock);
+  std::vector<Particle> scalar = lanes;
+  const detail::Reference reference(s);
+  EXPECT_EQ(detail::stepKernelOnly(reference, lanes.data(), 400, false), 400 * detail::kSimdBlock);
+  detail::stepKernelOnly(reference, scalar.data(), 400, true);
+  EXPECT_EQ(std::memcmp(lanes.data(), scalar.data(), lanes.size() * sizeof(Particle)), 0);
+}
+
+TEST(Simd, NamesItsInstructionSet) {
+  const CpuSimulation simd(Scene{}, 2, CpuKernel::Simd);
+  EXPECT_NE(simd.name().find("cpu-simd "), std::string::npos) << simd.name();
+  EXPECT_NE(simd.name().find(" lanes), 2 threads"), std::string::npos) << simd.name();
+  EXPECT_EQ(simd.kernel(), CpuKernel::Simd);
+  EXPECT_EQ(CpuSimulation(Scene{}).name(), "cpu reference, 1 thread");
+}
+
+}  // namespace
+}  // namespace lava
