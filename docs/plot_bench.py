@@ -18,6 +18,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 def main(out, runs):
     updates = defaultdict(list)  # (backend, particles) -> [updates/s]
     roofline = defaultdict(list)  # (backend, particles) -> [copy GB/s / bytes per update]
+    compute = defaultdict(list)  # (backend, particles) -> [compute ceiling updates/s]
     device = None
     for path in runs:
         with open(path) as f:
@@ -27,18 +28,27 @@ def main(out, runs):
             key = (r["backend"], r["particles"])
             updates[key].append(r["updates_per_second"])
             roofline[key].append(r["copy_gbps"] * 1e9 / r["bytes_per_update"])
+            if r.get("compute_updates_per_second", 0) > 0:
+                compute[key].append(r["compute_updates_per_second"])
 
     fig, ax = plt.subplots(figsize=(10, 5), dpi=110)
-    styles = {"gpu": ("#d62d0a", "o"), "cpu": ("#4a4a4a", "s"), "cpu-mt": ("#8a8a8a", "^")}
+    styles = {"gpu": ("#d62d0a", "o"), "cpu": ("#4a4a4a", "s"), "cpu-mt": ("#8a8a8a", "^"),
+              "cpu-simd": ("#1f5fbf", "D"), "cpu-simd-mt": ("#5aa0f0", "v")}
+    memory_roofs = {"gpu", "cpu", "cpu-mt"}  # the CPU rows share memcpy's: drawn once each
     for backend, (color, marker) in styles.items():
         sizes = sorted(n for b, n in updates if b == backend)
         if not sizes:
             continue
         med = [statistics.median(updates[(backend, n)]) / 1e6 for n in sizes]
         ax.plot(sizes, med, marker=marker, color=color, label=f"{backend} (end to end)")
-        roof = [statistics.median(roofline[(backend, n)]) / 1e6 for n in sizes]
-        ax.plot(sizes, roof, linestyle="--", color=color, alpha=0.6,
-                label=f"{backend} memory roofline (copy bandwidth / 64 B)")
+        if backend in memory_roofs:
+            roof = [statistics.median(roofline[(backend, n)]) / 1e6 for n in sizes]
+            ax.plot(sizes, roof, linestyle="--", color=color, alpha=0.6,
+                    label=f"{backend} memory roofline (copy bandwidth / 64 B)")
+        if all((backend, n) in compute for n in sizes):
+            ceil = [statistics.median(compute[(backend, n)]) / 1e6 for n in sizes]
+            ax.plot(sizes, ceil, linestyle=":", color=color, alpha=0.8,
+                    label=f"{backend} compute ceiling (its steps alone)")
     ax.set_xscale("log", base=2)
     ax.set_xlabel("particles")
     ax.set_ylabel("million particle-steps per second (median of runs)")

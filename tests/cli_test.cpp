@@ -181,6 +181,7 @@ const BadInput kBadInputs[] = {
     {"validate --steps 10 --tolerance-ulp -1", "--tolerance-ulp"},
     {"validate --steps 10 --reference gpu", "--reference"},
     {"bench --backends cpu,simd", "--backends"},
+    {"bench --simd-target MMX", "--simd-target"},
     {"validate --steps 10 --every 0", "--every"},
     {"validate --steps 0", "--steps"},
     {"validate --steps 10 --csv table.txt", "--csv"},

@@ -108,6 +108,33 @@ TEST(Simd, TheComputeCeilingKernelIsTheSameStep) {
   EXPECT_EQ(std::memcmp(lanes.data(), scalar.data(), lanes.size() * sizeof(Particle)), 0);
 }
 
+TEST(Simd, EveryInstructionSetOfThisCpuGivesTheReferenceBytes) {
+  // Highway compiled each target (SSSE3 ... AVX-512 here); the best runs by default, the
+  // others are checked too, so a CPU without AVX-512 gets the same bytes.
+  const std::vector<std::string> targets = cpuSimdTargets();
+  ASSERT_FALSE(targets.empty());
+  const Scene all = test::moduleScene("all");
+  std::mt19937 rng(1515);
+  const Scene random = test::randomModuleScene(rng);
+  CpuSimulation a(all, 1), b(random, 1);
+  a.advance(900);
+  b.advance(900);
+  for (const std::string& target : targets) {
+    setCpuSimdTarget(target);
+    SCOPED_TRACE(target);
+    EXPECT_EQ(cpuSimdTarget().rfind(target + " (", 0), 0u) << cpuSimdTarget();
+    CpuSimulation sa(all, 2, CpuKernel::Simd), sb(random, 1, CpuKernel::Simd);
+    sa.advance(900);
+    sb.advance(900);
+    expectSameBytes(sa.state(), a.state());
+    expectSameBytes(sb.state(), b.state());
+  }
+  setCpuSimdTarget("");
+  EXPECT_EQ(cpuSimdTarget().rfind(targets.front() + " (", 0), 0u) << cpuSimdTarget();
+  EXPECT_THROW(setCpuSimdTarget("MMX"), InvalidArgument);
+  EXPECT_EQ(cpuSimdTarget().rfind(targets.front() + " (", 0), 0u) << cpuSimdTarget();
+}
+
 TEST(Simd, NamesItsInstructionSet) {
   const CpuSimulation simd(Scene{}, 2, CpuKernel::Simd);
   EXPECT_NE(simd.name().find("cpu-simd "), std::string::npos) << simd.name();

@@ -10,7 +10,10 @@
 #                  for the demo when the machine has none)
 #   --dry          the same steps at small sizes (CI runs it on lavapipe)
 #   OUT            folder for the results (created): env.txt, info.txt, suite.xml,
-#                  suite.csv, validate-*.txt, bench.json/.txt, render-*/, demo.txt, summary.txt
+#                  suite.csv, validate-*.txt, bench*.json/.txt, render-*/, demo.txt, summary.txt
+#
+# lava needs, beside glibc: libvulkan1, libglfw3, libx11-6, libxext6, libhwy1 (cpu-simd)
+# and libstdc++6 from Debian 12 (ldd's "not found" lines land in env.txt).
 #
 # Point VK_DRIVER_FILES at the GPU's ICD (e.g. /usr/share/vulkan/icd.d/nvidia_icd.json) or
 # let the loader find it; LAVA_DEVICE picks a device when there are several.
@@ -87,6 +90,9 @@ step validate-ulp "$lava" validate --scene "$here/scenes/volcano.toml" --steps "
 step bench "$lava" bench --sizes "$sizes" --steps 200 --backends gpu --json "$out/bench.json"
 step bench-unfused "$lava" bench --sizes "${sizes%%,*}" --steps 50 --backends gpu \
   --steps-per-dispatch 1 --json "$out/bench-unfused.json"
+# The GPU against the host's CPU on all its cores, SIMD lanes as wide as it runs.
+step bench-cpu "$lava" bench --sizes "${sizes%%,*}" --steps 200 --backends gpu,cpu-simd-mt \
+  --json "$out/bench-cpu.json"
 step render-lines "$lava" render --frames 2 --renderer lines --out "$out/render-lines"
 step render-splat "$lava" render --frames 2 --renderer splat --particles "$demo_particles" \
   --rate $((demo_particles / 5)) --warmup 5 --out "$out/render-splat"

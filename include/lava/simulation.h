@@ -46,6 +46,12 @@ enum class CpuKernel {
 
 // The instruction set CpuKernel::Simd uses on this CPU: "AVX3 (512-bit, 16 lanes)".
 LAVA_API std::string cpuSimdTarget();
+// The instruction sets it can use here (compiled in and run by this CPU), best first:
+// "AVX3", "AVX2", "SSE4", ... Every one computes the same bytes.
+LAVA_API std::vector<std::string> cpuSimdTargets();
+// Makes CpuKernel::Simd use `target`, one of cpuSimdTargets() (process-wide; "" for the
+// best); InvalidArgument naming "simd-target" otherwise. Call it while no simulation runs.
+LAVA_API void setCpuSimdTarget(const std::string& target);
 
 // The CPU backend: the reference written apart from the shaders, or its SIMD twin.
 class LAVA_API CpuSimulation final : public Simulation {

@@ -65,6 +65,16 @@ class BenchCommand final : public Command {
                  [this](const std::string& src, const std::string& t) {
                    backends_ = parseBackends(src, t);
                  });
+    options_.add("simd-target",
+                 "instruction set of the cpu-simd rows, one of this CPU's (see 'lava info') "
+                 "[the best]",
+                 [](const std::string& src, const std::string& t) {
+                   try {
+                     setCpuSimdTarget(t);
+                   } catch (const InvalidArgument& e) {
+                     throw host::UsageError(src + ": " + e.detail());
+                   }
+                 });
     options_.add("json", "also write the results to FILE.json",
                  [this](const std::string& src, const std::string& t) {
                    host::checkOutputPath(src, t, ".json");

@@ -1,5 +1,7 @@
 // `lava info`: the Vulkan devices, the one Lava would pick, and the limits that bound a scene.
+#include <algorithm>
 #include <cstdio>
+#include <thread>
 #include <optional>
 
 #include "commands.h"
@@ -66,6 +68,11 @@ class InfoCommand final : public Command {
                 device.particlesPerChunk(), sizeof(Particle));
     std::printf("  largest particle count          %llu\n",
                 static_cast<unsigned long long>(device.maxParticles()));
+    std::string targets;
+    for (const std::string& t : cpuSimdTargets()) targets += (targets.empty() ? "" : ", ") + t;
+    std::printf("host CPU: %u threads; cpu-simd runs %s (it can run %s)\n",
+                std::max(1u, std::thread::hardware_concurrency()), cpuSimdTarget().c_str(),
+                targets.c_str());
     return finish(device, 0);
   }
 

@@ -23,6 +23,14 @@ std::string cpuSimdTarget() {
   return detail::simdTarget();
 }
 
+std::vector<std::string> cpuSimdTargets() {
+  return detail::simdTargets();
+}
+
+void setCpuSimdTarget(const std::string& target) {
+  detail::useSimdTarget(target);
+}
+
 CpuSimulation::CpuSimulation(const Scene& scene, unsigned threads, CpuKernel kernel)
     : Simulation(scene),
       state_(initialState(scene)),

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 
+#include "lava/error.h"
 #include "shared.h"
 #include "simd.h"
 
@@ -317,6 +318,13 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace lava::detail {
 
+namespace {
+std::string& chosen() {  // the name useSimdTarget chose last ("": the best)
+  static std::string name;
+  return name;
+}
+}  // namespace
+
 HWY_EXPORT(Run);
 HWY_EXPORT(Target);
 HWY_EXPORT(LaneCount);
@@ -346,6 +354,34 @@ std::string simdTarget() {
   const size_t lanes = HWY_DYNAMIC_DISPATCH(LaneCount)();
   return std::string(hwy::TargetName(HWY_DYNAMIC_DISPATCH(Target)())) + " (" +
          std::to_string(lanes * 32) + "-bit, " + std::to_string(lanes) + " lanes)";
+}
+
+std::vector<std::string> simdTargets() {
+  std::vector<std::string> names;
+  hwy::SetSupportedTargetsForTest(0);
+  for (int64_t target : hwy::SupportedAndGeneratedTargets()) names.push_back(hwy::TargetName(target));
+  useSimdTarget(chosen());
+  return names;
+}
+
+void useSimdTarget(const std::string& name) {
+  if (name.empty()) {
+    chosen() = name;
+    hwy::SetSupportedTargetsForTest(0);
+    return;
+  }
+  hwy::SetSupportedTargetsForTest(0);
+  for (int64_t target : hwy::SupportedAndGeneratedTargets())
+    if (name == hwy::TargetName(target)) {
+      chosen() = name;
+      hwy::SetSupportedTargetsForTest(target);
+      return;
+    }
+  std::string known;
+  for (int64_t target : hwy::SupportedAndGeneratedTargets())
+    known += (known.empty() ? "" : ", ") + std::string(hwy::TargetName(target));
+  useSimdTarget(chosen());
+  throw InvalidArgument("simd-target", "expected one of " + known + " (this CPU's), got '" + name + "'");
 }
 
 }  // namespace lava::detail
