@@ -734,6 +734,32 @@ TEST(Demo, WithoutADisplayRendersHeadlessAndSaysWhere) {
   EXPECT_EQ(readFile(folder + "/frame_00001.png").substr(0, 4), "\x89PNG");
 }
 
+TEST(Progress, SimulateValidateAndBenchShowItWithTheTimeLeftOnATerminal) {
+  // Under a pseudo-terminal (script(1), util-linux) each long command draws a progress line
+  // with the time left; piped, as in every other test, none of it appears.
+  const auto onTerminal = [](const std::string& args) {
+    return run("script -qfec '" + std::string(LAVA_EXE) + " " + args + "' /dev/null");
+  };
+  const Result s = onTerminal(
+      "simulate --backend cpu --threads 1 --particles 100000 --burst 100000 --steps 3000");
+  EXPECT_EQ(s.status, 0) << s.out;
+  EXPECT_NE(s.out.find("\r\033[Ksimulate "), std::string::npos) << s.out;
+  EXPECT_NE(s.out.find(" s left)"), std::string::npos) << s.out;
+  const Result v =
+      onTerminal("validate --particles 200000 --burst 200000 --steps 2000 --every 200");
+  EXPECT_EQ(v.status, 0) << v.out;
+  EXPECT_NE(v.out.find("\r\033[Kvalidate 200/2000 (10%"), std::string::npos) << v.out;
+  EXPECT_NE(v.out.find(" s left)"), std::string::npos) << v.out;
+  EXPECT_NE(v.out.find("validate: PASS"), std::string::npos) << v.out;
+  const Result b = onTerminal("bench --sizes 4096 --steps 20");
+  EXPECT_EQ(b.status, 0) << b.out;
+  EXPECT_NE(b.out.find("\r\033[Kbench 1/5 (20%"), std::string::npos) << b.out;
+  EXPECT_NE(b.out.find(" s left)"), std::string::npos) << b.out;
+  EXPECT_EQ(lava("validate --particles 2000 --steps 200").out.find('\r'), std::string::npos);
+  EXPECT_EQ(lava("bench --sizes 4096 --steps 20 --backends gpu").out.find('\r'),
+            std::string::npos);
+}
+
 TEST(Bench, WritesTheJsonItPromises) {
   const std::string json = scratch("bench.json");
   const Result r = lava("bench --sizes 4096,8192 --steps 20 --json " + json);

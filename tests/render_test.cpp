@@ -321,5 +321,21 @@ TEST_F(RenderTest, DefaultSceneLightsManyPixelsOrangeAndRed) {
   EXPECT_GT(lava, 1000u);
 }
 
+TEST(ShmCopy, PaddedRowsLandAtTheirPitchAndThePaddingIsKept) {
+  // The MIT-SHM presenter's copy into an X image whose rows are padded past width * 4.
+  const uint32_t width = 3, height = 4;
+  const size_t row = width * 4, pitch = row + 8;
+  std::vector<uint8_t> source(row * height), image(pitch * height, 0xEE);
+  for (size_t i = 0; i < source.size(); ++i) source[i] = static_cast<uint8_t>(i);
+  host::copyRows(image.data(), pitch, source.data(), row, height);
+  for (uint32_t y = 0; y < height; ++y) {
+    for (size_t x = 0; x < row; ++x) EXPECT_EQ(image[y * pitch + x], source[y * row + x]);
+    for (size_t x = row; x < pitch; ++x) EXPECT_EQ(image[y * pitch + x], 0xEE) << "padding";
+  }
+  std::vector<uint8_t> packed(row * height, 0);
+  host::copyRows(packed.data(), row, source.data(), row, height);
+  EXPECT_EQ(packed, source);
+}
+
 }  // namespace
 }  // namespace lava

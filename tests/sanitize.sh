@@ -11,5 +11,5 @@ cmake -S . -B build-asan -DLAVA_SANITIZE=ON -DLAVA_BUILD_PYTHON=OFF \
       -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build build-asan -j2
 ctest --test-dir build-asan --output-on-failure \
-      -R '^(Random|Physics|Emission|StateIo|Compare|Integrators|Forces|Colliders|Denormals|SceneKeys|SceneToml|Spirv)\.'
+      -R '^(Random|Physics|Emission|StateIo|Compare|Integrators|Forces|Colliders|Denormals|SceneKeys|SceneToml|Spirv|Simd|Effects/SimdModules)\.'
 ASAN_OPTIONS=detect_leaks=0 ctest --test-dir build-asan --output-on-failure -j2

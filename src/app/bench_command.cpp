@@ -98,6 +98,10 @@ class BenchCommand final : public Command {
                 "updates/s", "device upd/s", "GB/s", "copy GB/s", "x copy", "compute upd/s",
                 "x compute", "bound");
     std::vector<Row> rows;
+    size_t kinds = 0;
+    for (const char* b : {"gpu", "cpu", "cpu-mt", "cpu-simd", "cpu-simd-mt"}) kinds += wants(b);
+    Progress progress("bench", sizes_.size() * kinds);
+    progress_ = &progress;
     for (uint32_t n : sizes_) {
       if (n > context.maxParticles())
         throw host::UsageError("--sizes: " + std::to_string(n) +
@@ -115,6 +119,8 @@ class BenchCommand final : public Command {
       if (wants("cpu-simd-mt"))
         rows.push_back(benchCpu(scene, start, cores, CpuKernel::Simd, "cpu-simd-mt"));
     }
+    progress.clear();
+    progress_ = nullptr;
     std::printf(
         "x copy: bytes the backend moved per second (64 per update) over the copy kernel's "
         "bandwidth on the same device; above 1, fused steps keep particles in registers or "
@@ -182,7 +188,8 @@ class BenchCommand final : public Command {
     return double(scene.particles()) * kBytesPerUpdate / copySeconds * 1e-9;
   }
 
-  static Row report(Row row) {
+  Row report(Row row) {
+    if (progress_) progress_->clear();
     row.rooflineFraction = row.deviceUpdatesPerSecond * kBytesPerUpdate * 1e-9 / row.copyGbps;
     const double memoryCeiling = row.copyGbps * 1e9 / kBytesPerUpdate * double(row.fused);
     char compute[32] = "-", fraction[32] = "-";
@@ -200,6 +207,7 @@ class BenchCommand final : public Command {
                 row.deviceUpdatesPerSecond * kBytesPerUpdate * 1e-9, row.copyGbps,
                 row.rooflineFraction, compute, fraction, row.bound);
     std::fflush(stdout);
+    if (progress_) progress_->update(++reported_);
     return row;
   }
 
@@ -263,6 +271,8 @@ class BenchCommand final : public Command {
   std::vector<std::string> backends_;
   std::string json_;
   std::map<std::string, double> computeCeilings_;  // per row kind
+  Progress* progress_ = nullptr;                   // rows done, while run() runs
+  uint64_t reported_ = 0;
 };
 
 }  // namespace

@@ -72,8 +72,13 @@ void Progress::update(uint64_t done) {
   shown_ = true;
 }
 
-Progress::~Progress() {
+void Progress::clear() {
   if (shown_) std::printf("\r\033[K");
+  shown_ = false;
+}
+
+Progress::~Progress() {
+  clear();
 }
 
 std::string formatSeconds(double seconds) {

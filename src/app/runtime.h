@@ -24,6 +24,8 @@ class Progress {
  public:
   Progress(std::string label, uint64_t total);
   void update(uint64_t done);
+  // Erases the line (before printing other output; the next update() draws it again).
+  void clear();
   ~Progress();
 
  private:

@@ -134,9 +134,11 @@ class ValidateCommand final : public Command {
     std::printf("%10s %21s %10s %14s %14s %10s\n", "step", "bitwise-equal slots", "alive",
                 "max|dx| (m)", "max|dv| (m/s)", "max ULP");
     std::string table = "step,equal,particles,alive,max_dx,max_dv,max_ulp\n";
+    Progress progress("validate", steps_);
     const ValidationReport report =
         validate(gpu, cpu, steps_, every_, tolerance_, [&](const Checkpoint& point) {
           const Comparison& c = point.comparison;
+          progress.clear();
           char row[160];
           std::snprintf(row, sizeof(row), "%10llu %10llu / %-8llu %10llu %14.6g %14.6g %10u\n",
                         static_cast<unsigned long long>(point.step),
@@ -152,7 +154,9 @@ class ValidateCommand final : public Command {
                         static_cast<unsigned long long>(c.alive), double(c.maxDx),
                         double(c.maxDv), c.maxUlp);
           table += row;
+          progress.update(point.step);
         });
+    progress.clear();
     if (!csv_.empty()) host::writeFileAtomically(csv_, table);
     if (report.firstDivergentStep) {
       std::printf("first divergent step: %llu\n",

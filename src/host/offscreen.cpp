@@ -198,4 +198,14 @@ std::vector<uint8_t> OffscreenTarget::pixels() const {
   return out;
 }
 
+void copyRows(uint8_t* destination, size_t pitch, const uint8_t* source, size_t row,
+              uint32_t height) {
+  if (pitch == row) {
+    std::memcpy(destination, source, row * height);
+    return;
+  }
+  for (uint32_t y = 0; y < height; ++y)
+    std::memcpy(destination + size_t(y) * pitch, source + size_t(y) * row, row);
+}
+
 }  // namespace lava::host

@@ -11,6 +11,12 @@
 
 namespace lava::host {
 
+// Copies `height` rows of `row` bytes from tightly packed `source` into `destination`, whose
+// rows start `pitch` bytes apart (pitch >= row, as an X server may pad them); the padding
+// is left as it was.
+void copyRows(uint8_t* destination, size_t pitch, const uint8_t* source, size_t row,
+              uint32_t height);
+
 // Where FrameRenderer draws one frame.
 struct FrameTarget {
   VkImage color = VK_NULL_HANDLE;

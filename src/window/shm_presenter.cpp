@@ -264,11 +264,9 @@ void ShmPresenter::put(uint32_t index) {
   XImage* image = segment.image;
   if (slot.target->inHostMemory()) {
     // The pass drew into the segment itself.
-  } else if (size_t(image->bytes_per_line) == row) {
-    std::memcpy(image->data, source, row * extent_.height);
   } else {
-    for (uint32_t y = 0; y < extent_.height; ++y)
-      std::memcpy(image->data + size_t(y) * size_t(image->bytes_per_line), source + y * row, row);
+    host::copyRows(reinterpret_cast<uint8_t*>(image->data), size_t(image->bytes_per_line), source,
+                   row, extent_.height);
   }
   XShmPutImage(x11_->display, x11_->window, x11_->gc, image, 0, 0, 0, 0, extent_.width,
                extent_.height, False);

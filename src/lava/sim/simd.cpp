@@ -253,23 +253,20 @@ HWY_INLINE void stepLanes(const Reference& r, size_t emitter, Block& b, size_t i
   hn::Store(hn::IfThenElse(alive, v.z, v0.z), d, b.vz + i);
 }
 
+void put(Block& b, size_t j, const Particle& p) {
+  b.px[j] = p.px, b.py[j] = p.py, b.pz[j] = p.pz, b.age[j] = p.age;
+  b.vx[j] = p.vx, b.vy[j] = p.vy, b.vz[j] = p.vz, b.mass[j] = p.mass;
+}
+
 void load(Block& b, const Particle* slots, size_t count) {
-  for (size_t j = 0; j < kSimdBlock; ++j) {
-    // Lanes past the slots: not alive, so the step leaves them be.
-    const Particle p = j < count ? slots[j] : Particle{0, 0, 0, -1.0f, 0, 0, 0, 0};
-    b.px[j] = p.px, b.py[j] = p.py, b.pz[j] = p.pz, b.age[j] = p.age;
-    b.vx[j] = p.vx, b.vy[j] = p.vy, b.vz[j] = p.vz, b.mass[j] = p.mass;
-  }
+  // Lanes past the slots: not alive, so the step leaves them be.
+  for (size_t j = 0; j < kSimdBlock; ++j)
+    put(b, j, j < count ? slots[j] : Particle{0, 0, 0, -1.0f, 0, 0, 0, 0});
 }
 
 void store(const Block& b, Particle* slots, size_t count) {
   for (size_t j = 0; j < count; ++j)
     slots[j] = {b.px[j], b.py[j], b.pz[j], b.age[j], b.vx[j], b.vy[j], b.vz[j], b.mass[j]};
-}
-
-void put(Block& b, size_t j, const Particle& p) {
-  b.px[j] = p.px, b.py[j] = p.py, b.pz[j] = p.pz, b.age[j] = p.age;
-  b.vx[j] = p.vx, b.vy[j] = p.vy, b.vz[j] = p.vz, b.mass[j] = p.mass;
 }
 
 // Lanes [0, count) rounded up to whole vectors (the block's lanes past count are dead).
