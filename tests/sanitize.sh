@@ -1,10 +1,18 @@
 #!/usr/bin/env bash
 # Lava's library, program, examples and tests built with AddressSanitizer and
-# UndefinedBehaviorSanitizer (any report fails), then the test suite on lavapipe. Leak
-# checking is on for the tests that do not load Vulkan; lavapipe's ICD, unloaded by the
-# loader at vkDestroyInstance, leaks 128 bytes that LeakSanitizer cannot attribute, so it
-# is off for the others. The Python module is left out of this build: an instrumented
-# extension needs the sanitizer runtime preloaded into python3 itself.
+# UndefinedBehaviorSanitizer (any report fails), then the test suite on lavapipe, in three
+# runs:
+#   1. the tests that load no Vulkan, with leak checking;
+#   2. everything else with the validation layer, leak checking off: the loader unloads the
+#      validation layer and lavapipe's ICD at vkDestroyInstance, and what they keep until
+#      then can no longer be attributed to them (LeakSanitizer reports it as ours);
+#   3. the program's tests (build/lava run as users run it, the fault-injection table
+#      included) with leak checking on: lavapipe and Lava's fault layer are preloaded so
+#      that they stay mapped and their frames symbolised, tests/lsan.supp names the system
+#      libraries whose own allocations are theirs, and the validation layer is off (it ran
+#      in 2). A leak in Lava on any path, error paths included, fails the run.
+# The Python module is left out of this build: an instrumented extension needs the
+# sanitizer runtime preloaded into python3 itself.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake -S . -B build-asan -DLAVA_SANITIZE=ON -DLAVA_BUILD_PYTHON=OFF \
@@ -12,4 +20,13 @@ cmake -S . -B build-asan -DLAVA_SANITIZE=ON -DLAVA_BUILD_PYTHON=OFF \
 cmake --build build-asan -j2
 ctest --test-dir build-asan --output-on-failure \
       -R '^(Random|Physics|Emission|StateIo|Compare|Integrators|Forces|Colliders|Denormals|SceneKeys|SceneToml|Spirv|Simd|Effects/SimdModules)\.'
-ASAN_OPTIONS=detect_leaks=0 ctest --test-dir build-asan --output-on-failure -j2
+ASAN_OPTIONS=detect_leaks=0 ctest --test-dir build-asan --output-on-failure -j2 -E FaultInjection
+icd=$(sed -n 's/.*"library_path": *"\([^"]*\)".*/\1/p' \
+      "${LAVA_LAVAPIPE_ICD:-/usr/share/vulkan/icd.d/lvp_icd.x86_64.json}")
+echo "sanitize: the program's tests with leak checking (preloaded: $icd, the fault layer)"
+env VK_DRIVER_FILES="${LAVA_LAVAPIPE_ICD:-/usr/share/vulkan/icd.d/lvp_icd.x86_64.json}" \
+    LAVA_VALIDATION=0 \
+    LD_PRELOAD="$icd $PWD/build-asan/tests/fault/liblava_fault_layer.so" \
+    ASAN_OPTIONS=detect_leaks=1:verify_asan_link_order=0 \
+    LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp \
+    build-asan/tests/lava_cli_tests
