@@ -335,16 +335,7 @@ TEST_F(GpuTest, AStateOfTheWrongSizeIsRefusedByBothBackends) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Effects, Modules,
-                         ::testing::Values("point", "disc", "sphere", "box", "attractor", "vortex",
-                                           "plane", "sphere-collider", "box-collider", "cone",
-                                           "semi-implicit-euler", "velocity-verlet",
-                                           "bursts-lifetimes", "all"),
-                         [](const ::testing::TestParamInfo<const char*>& p) {
-                           std::string name = p.param;
-                           for (char& ch : name)
-                             if (ch == '-') ch = '_';
-                           return name;
-                         });
+                         ::testing::ValuesIn(test::kModules), test::moduleTestName);
 
 }  // namespace
 }  // namespace lava

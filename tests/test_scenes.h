@@ -1,12 +1,28 @@
 // Scenes the tests share: each module of SPEC §6 on its own and all together, and random
 // scenes drawing every module.
 #pragma once
+#include <gtest/gtest.h>
+
 #include <random>
 #include <string>
 
 #include "lava/scene.h"
 
 namespace lava::test {
+
+// The names moduleScene() knows, for parameterised tests.
+inline constexpr const char* kModules[] = {
+    "point",      "disc",           "sphere",       "box",  "attractor",           "vortex",
+    "plane",      "sphere-collider", "box-collider", "cone", "semi-implicit-euler",
+    "velocity-verlet", "bursts-lifetimes", "all"};
+
+// "sphere-collider" -> "sphere_collider" (test names take no '-').
+inline std::string moduleTestName(const ::testing::TestParamInfo<const char*>& info) {
+  std::string name = info.param;
+  for (char& ch : name)
+    if (ch == '-') ch = '_';
+  return name;
+}
 
 // Every module of SPEC §6 on its own, and all of them together: 20,000+ particles over
 // 3,000 steps, bit-identical on the GPU and the CPU reference.

@@ -26,6 +26,16 @@ double median(std::vector<double> values) {
   return values[values.size() / 2];
 }
 
+// [first, first + count) of each chunk of `particles`, chunked as a simulation is.
+std::vector<std::pair<uint64_t, uint32_t>> chunkRanges(Device& device, uint64_t particles) {
+  std::vector<std::pair<uint64_t, uint32_t>> ranges;
+  const uint32_t perChunk = device.particlesPerChunk();
+  for (uint64_t first = 0; first < particles; first += perChunk)
+    ranges.emplace_back(first,
+                        static_cast<uint32_t>(std::min<uint64_t>(perChunk, particles - first)));
+  return ranges;
+}
+
 }  // namespace
 
 double gpuCopySeconds(Device& device, uint64_t particles, int passes) {
@@ -42,9 +52,7 @@ double gpuCopySeconds(Device& device, uint64_t particles, int passes) {
     uint32_t count;
   };
   std::vector<Chunk> chunks;
-  const uint32_t perChunk = device.particlesPerChunk();
-  for (uint64_t first = 0; first < particles; first += perChunk) {
-    const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(perChunk, particles - first));
+  for (const auto& [first, count] : chunkRanges(device, particles)) {
     const VkDeviceSize bytes = VkDeviceSize{count} * sizeof(Particle);
     chunks.push_back(
         {detail::Buffer(c, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, detail::MemoryUse::Device),
@@ -170,9 +178,7 @@ double gpuComputeUpdatesPerSecond(Device& device, const Scene& scene,
     uint32_t count;
   };
   std::vector<Chunk> chunks;
-  const uint32_t perChunk = device.particlesPerChunk();
-  for (uint64_t first = 0; first < particles; first += perChunk) {
-    const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(perChunk, particles - first));
+  for (const auto& [first, count] : chunkRanges(device, particles)) {
     const VkDeviceSize bytes = VkDeviceSize{count} * sizeof(Particle);
     detail::Buffer source(c, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, detail::MemoryUse::Upload);
     std::memcpy(source.mapped(), &start[first], bytes);
