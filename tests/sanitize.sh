@@ -3,14 +3,15 @@
 # UndefinedBehaviorSanitizer (any report fails), then the test suite on lavapipe, in three
 # runs:
 #   1. the tests that load no Vulkan, with leak checking;
-#   2. everything else with the validation layer, leak checking off: the loader unloads the
+#   2. the other tests with the validation layer, leak checking off: the loader unloads the
 #      validation layer and lavapipe's ICD at vkDestroyInstance, and what they keep until
 #      then can no longer be attributed to them (LeakSanitizer reports it as ours);
-#   3. the program's tests (build/lava run as users run it, the fault-injection table
-#      included) with leak checking on: lavapipe and Lava's fault layer are preloaded so
-#      that they stay mapped and their frames symbolised, tests/lsan.supp names the system
-#      libraries whose own allocations are theirs, and the validation layer is off (it ran
-#      in 2). A leak in Lava on any path, error paths included, fails the run.
+#   3. the program's tests (label "program": build/lava run as users run it, the
+#      fault-injection table included) with leak checking on: lavapipe and Lava's fault
+#      layer are preloaded so that they stay mapped and their frames symbolised,
+#      tests/lsan.supp names the system libraries whose own allocations are theirs, and the
+#      validation layer is off (the plain suite runs these tests with it). A leak in Lava on
+#      any path, error paths included, fails the run.
 # The Python module is left out of this build: an instrumented extension needs the
 # sanitizer runtime preloaded into python3 itself.
 set -euo pipefail
@@ -20,7 +21,7 @@ cmake -S . -B build-asan -DLAVA_SANITIZE=ON -DLAVA_BUILD_PYTHON=OFF \
 cmake --build build-asan -j2
 ctest --test-dir build-asan --output-on-failure \
       -R '^(Random|Physics|Emission|StateIo|Compare|Integrators|Forces|Colliders|Denormals|SceneKeys|SceneToml|Spirv|Simd|Effects/SimdModules)\.'
-ASAN_OPTIONS=detect_leaks=0 ctest --test-dir build-asan --output-on-failure -j2 -E FaultInjection
+ASAN_OPTIONS=detect_leaks=0 ctest --test-dir build-asan --output-on-failure -j2 -LE program
 icd=$(sed -n 's/.*"library_path": *"\([^"]*\)".*/\1/p' \
       "${LAVA_LAVAPIPE_ICD:-/usr/share/vulkan/icd.d/lvp_icd.x86_64.json}")
 echo "sanitize: the program's tests with leak checking (preloaded: $icd, the fault layer)"
