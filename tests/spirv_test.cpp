@@ -80,7 +80,8 @@ Module parse(const std::string& stem) {
   return m;
 }
 
-const char* kVariants[] = {"step_comp", "step_signed_zero", "step_rte", "step_plain"};
+const char* kVariants[] = {"step_comp", "step_signed_zero", "step_rte", "step_plain",
+                            "step_kernel_only"};  // the compute ceiling: the same arithmetic
 
 TEST(Spirv, EveryFloatOperationOfTheStepIsNoContraction) {
   for (const char* variant : kVariants) {

@@ -111,6 +111,11 @@ enum class KeyTable { Top, Emitter, Force, Collider };
 // The keys of a table (Top: top-level keys, emitter-0 keys included), in order.
 LAVA_API const std::vector<SceneKey>& sceneKeys(KeyTable table);
 
+// The name in `names` nearest to `given` ('_' read as '-'), at most `maxEdits` edits away
+// (the first on a tie), or "": the "did you mean" of scene keys and of the program's flags.
+LAVA_API std::string nearestName(const std::string& given, const std::vector<std::string>& names,
+                                 size_t maxEdits);
+
 // Sets one key from text; `where` is the table index (emitter, force or collider;
 // ignored for Top). Throws InvalidArgument naming the key on a bad value or an unknown
 // key. Top-level emitter keys set emitter 0.

@@ -23,37 +23,14 @@ namespace {
 
 // CLI11's messages, in the form every other usage error takes: the flag, then what is
 // accepted. A repeated flag and a flag without its value are the two it words its own way.
-// Levenshtein distance, for "did you mean".
-size_t distance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
-
 // The flag of `command` nearest to `given` (a typo, `_` for `-`), or "".
 std::string nearestFlag(const CLI::App& app, const char* command, const std::string& given) {
-  std::string best;
-  size_t bestDistance = 4;  // at most 3 edits away
-  std::string normalised = given;
-  std::replace(normalised.begin(), normalised.end(), '_', '-');
+  std::vector<std::string> flags;
   for (const CLI::App* sub : app.get_subcommands({}))
     if (command && sub->get_name() == command)
-      for (const CLI::Option* option : sub->get_options()) {
-        for (const std::string& name : option->get_lnames()) {
-          const size_t d = distance(normalised, "--" + name);
-          if (d < bestDistance) bestDistance = d, best = "--" + name;
-        }
-      }
-  return best;
+      for (const CLI::Option* option : sub->get_options())
+        for (const std::string& name : option->get_lnames()) flags.push_back("--" + name);
+  return lava::nearestName(given, flags, 3);
 }
 
 std::string usageMessage(const CLI::App& app, const char* command, const CLI::ParseError& error) {

@@ -356,7 +356,20 @@ std::string keyList(KeyTable table) {
   return list;
 }
 
+std::string unknownKey(KeyTable table, const std::string& key, const std::string& extra) {
+  std::vector<std::string> names;
+  for (const KeyDef& d : keyDefs(table)) names.push_back(d.key.name);
+  const std::string best = nearestName(key, names, 2);
+  return "unknown key" + (best.empty() ? std::string() : "; did you mean " + best + "?") +
+         " (accepted: " + extra + keyList(table) + ")";
+}
+
+}  // namespace lava::detail
+
+namespace lava {
+
 namespace {
+// Levenshtein distance.
 size_t editDistance(const std::string& a, const std::string& b) {
   std::vector<size_t> row(b.size() + 1);
   for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
@@ -373,22 +386,17 @@ size_t editDistance(const std::string& a, const std::string& b) {
 }
 }  // namespace
 
-std::string unknownKey(KeyTable table, const std::string& key, const std::string& extra) {
-  std::string normalised = key;
+std::string nearestName(const std::string& given, const std::vector<std::string>& names,
+                        size_t maxEdits) {
+  std::string normalised = given;
   std::replace(normalised.begin(), normalised.end(), '_', '-');
   std::string best;
-  size_t bestDistance = 3;  // at most 2 edits away
-  for (const KeyDef& d : keyDefs(table)) {
-    const size_t e = editDistance(normalised, d.key.name);
-    if (e < bestDistance) bestDistance = e, best = d.key.name;
-  }
-  return "unknown key" + (best.empty() ? std::string() : "; did you mean " + best + "?") +
-         " (accepted: " + extra + keyList(table) + ")";
+  size_t bestDistance = maxEdits + 1;
+  for (const std::string& name : names)
+    if (const size_t e = editDistance(normalised, name); e < bestDistance)
+      bestDistance = e, best = name;
+  return best;
 }
-
-}  // namespace lava::detail
-
-namespace lava {
 
 const std::vector<SceneKey>& sceneKeys(KeyTable table) {
   static const auto collect = [](KeyTable t) {
