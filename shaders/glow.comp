@@ -1,14 +1,15 @@
 #version 460
-// The lava look's glow, at one cell per kGlowCell x kGlowCell pixels, in three passes
-// (specialization constant 1):
+// The lava look's glow, at one cell per kGlowCell x kGlowCell pixels, in two passes
+// (specialization constant 1), over sums the renderer cleared:
 // - splat: every stride-th alive particle adds its line's energy (times the stride) into
 //   the cell of the line's middle, in fixed point (two planes of uint, red and green);
-// - blur: each cell's energy per pixel above the threshold (the brightest channel less the
-//   threshold, the hue kept: only what glows brightly spreads), blurred over 5 x 5 cells
-//   and times the strength: the light each cell receives;
-// - list: the quads between four neighbouring cells' centres (one more across and down than
-//   cells, the edges clamped) where any of the four has visible light, appended to the list
-//   (its vertex count 6 per quad); and the sums cleared for the slot's next frame.
+// - light: per workgroup, a tile of kGlowTile x kGlowTile quads of the dual grid (one more
+//   across and down than cells: a quad spans four neighbouring cells' centres, the edges
+//   clamped). Each cell's energy per pixel above the threshold (the brightest channel less
+//   the threshold, the hue kept: only what glows brightly spreads), blurred over 5 x 5 cells
+//   (separably, in shared memory) and times the strength, is the light the cell receives;
+//   the tile's quads where any of the four has visible light are appended to the list (its
+//   vertex count 6 per quad).
 #extension GL_GOOGLE_include_directive : require
 #include "shared.h"
 #include "lava_color.glsl"
@@ -20,7 +21,7 @@ layout(binding = kGlowParticlesBinding) uniform samplerBuffer particles;
 layout(std430, binding = kGlowSumsBinding) restrict buffer Sums {
   uint sums[];  // red cells, then green cells
 };
-layout(std430, binding = kGlowLightBinding) restrict buffer Light {
+layout(std430, binding = kGlowLightBinding) restrict writeonly buffer Light {
   vec2 light[];
 };
 layout(std430, binding = kGlowListBinding) restrict buffer List {
@@ -28,7 +29,7 @@ layout(std430, binding = kGlowListBinding) restrict buffer List {
   uint instanceCount;
   uint firstVertex;
   uint firstInstance;
-  uint cells[];  // the quads to draw
+  uint quads[];  // the quads to draw
 };
 layout(binding = kGlowSumTexelsBinding) uniform usamplerBuffer sumTexels;  // the sums again
 layout(push_constant) uniform Push {
@@ -40,15 +41,6 @@ const float kVisible = 0.002;  // glow energy below this adds less than half a d
 // A 5-tap Gaussian (sigma 1 cell), normalised.
 const int kTaps = 3;
 const float kWeights[kTaps] = float[](0.4026, 0.2442, 0.0545);
-
-vec2 thresholded(uint cell) {
-  uint n = g.grid.x * g.grid.y;
-  // Read as texels: on llvmpipe a gather, where a storage-buffer load is a loop over lanes.
-  vec2 e = vec2(float(texelFetch(sumTexels, int(cell)).r), float(texelFetch(sumTexels, int(n + cell)).r)) *
-           (1.0 / (kFixed * float(kGlowCell * kGlowCell)));
-  float peak = max(e.r, e.g);
-  return peak > g.glow.x ? e * ((peak - g.glow.x) / peak) : vec2(0.0);
-}
 
 void splat() {
   if (gl_GlobalInvocationID.x == 0u && g.target.z == 1u) {  // the first chunk's first
@@ -77,48 +69,87 @@ void splat() {
   atomicAdd(sums[g.grid.x * g.grid.y + cell], uint(e.g + 0.5));
 }
 
-void blur(uvec2 c, uint cell) {
-  vec2 sum = vec2(0.0);
-  for (int dy = 1 - kTaps; dy < kTaps; ++dy) {
-    int y = int(c.y) + dy;
-    if (y < 0 || y >= int(g.grid.y)) continue;
-    vec2 row = vec2(0.0);
-    for (int dx = 1 - kTaps; dx < kTaps; ++dx) {
-      int x = int(c.x) + dx;
-      if (x >= 0 && x < int(g.grid.x)) row += thresholded(uint(y) * g.grid.x + uint(x)) * kWeights[abs(dx)];
-    }
-    sum += row * kWeights[abs(dy)];
-  }
-  light[cell] = sum * g.glow.y;
+// The light pass's blocks, in cells from the tile's first quad less one (the cells its
+// quads span) and less the blur's reach on either side.
+const int kTile = int(kGlowTile);
+const int kReach = kTaps - 1;
+const int kCells = kTile + 1;             // cells whose light the tile's quads read
+const int kSpan = kCells + 2 * kReach;    // cells whose energy their blur reads
+shared vec2 energy[kSpan * kSpan];        // thresholded, 0 off the grid
+shared vec2 rows[kSpan * kCells];         // blurred across
+shared float visible[kCells * kCells];    // red light times exposure
+shared uint anyEnergy;
+
+bool onGrid(ivec2 c) {
+  return all(greaterThanEqual(c, ivec2(0))) && all(lessThan(c, ivec2(g.grid.xy)));
 }
 
-void list(uint quad) {
-  uint n = g.grid.x * g.grid.y;
-  if (quad < n) {  // cleared for the next frame (the blur has read them)
-    sums[quad] = 0u;
-    sums[n + quad] = 0u;
+vec2 thresholded(ivec2 c) {
+  if (!onGrid(c)) return vec2(0.0);
+  int cell = c.y * int(g.grid.x) + c.x;
+  int n = int(g.grid.x * g.grid.y);
+  // Read as texels: on llvmpipe a gather, where a storage-buffer load is a loop over lanes.
+  vec2 e = vec2(float(texelFetch(sumTexels, cell).r), float(texelFetch(sumTexels, n + cell).r)) *
+           (1.0 / (kFixed * float(kGlowCell * kGlowCell)));
+  float peak = max(e.r, e.g);
+  return peak > g.glow.x ? e * ((peak - g.glow.x) / peak) : vec2(0.0);
+}
+
+void lightTile() {
+  uint lane = gl_LocalInvocationIndex;
+  ivec2 first = ivec2(gl_WorkGroupID.xy) * kTile - 1;  // the block's first cell
+  if (lane == 0u) anyEnergy = 0u;
+  barrier();
+  for (uint k = lane; k < uint(kSpan * kSpan); k += kWorkgroupSize) {
+    vec2 e = thresholded(first - kReach + ivec2(int(k) % kSpan, int(k) / kSpan));
+    energy[k] = e;
+    if (any(greaterThan(e, vec2(0.0)))) atomicOr(anyEnergy, 1u);
   }
-  uvec2 q = uvec2(quad % (g.grid.x + 1u), quad / (g.grid.x + 1u));
-  bool lit = false;
-  for (uint k = 0u; k < 4u; ++k) {
-    uvec2 c = min(uvec2(max(int(q.x + (k & 1u)) - 1, 0), max(int(q.y + (k >> 1)) - 1, 0)),
-                  g.grid.xy - 1u);
-    lit = lit || light[c.y * g.grid.x + c.x].r * g.glow.z > kVisible;
+  barrier();
+  if (anyEnergy == 0u) {  // nothing reaches the tile: no light, nothing to list
+    for (uint k = lane; k < kGlowTile * kGlowTile; k += kWorkgroupSize) {
+      ivec2 c = first + 1 + ivec2(int(k) % kTile, int(k) / kTile);
+      if (onGrid(c)) light[c.y * int(g.grid.x) + c.x] = vec2(0.0);
+    }
+    return;
   }
-  if (!lit) return;
-  uint slot = atomicAdd(vertexCount, 6u) / 6u;  // the splat pass reset it
-  cells[slot] = quad;
+  for (uint k = lane; k < uint(kSpan * kCells); k += kWorkgroupSize) {
+    int x = int(k) % kCells, y = int(k) / kCells;
+    vec2 row = vec2(0.0);
+    for (int dx = -kReach; dx <= kReach; ++dx)
+      row += energy[y * kSpan + x + kReach + dx] * kWeights[abs(dx)];
+    rows[k] = row;
+  }
+  barrier();
+  for (uint k = lane; k < uint(kCells * kCells); k += kWorkgroupSize) {
+    ivec2 b = ivec2(int(k) % kCells, int(k) / kCells);
+    vec2 sum = vec2(0.0);
+    for (int dy = -kReach; dy <= kReach; ++dy)
+      sum += rows[(b.y + kReach + dy) * kCells + b.x] * kWeights[abs(dy)];
+    vec2 l = sum * g.glow.y;
+    visible[k] = l.r * g.glow.z;
+    ivec2 c = first + b;
+    if (b.x > 0 && b.y > 0 && onGrid(c)) light[c.y * int(g.grid.x) + c.x] = l;  // the tile's own
+  }
+  barrier();
+  for (uint k = lane; k < kGlowTile * kGlowTile; k += kWorkgroupSize) {
+    ivec2 q = ivec2(gl_WorkGroupID.xy) * kTile + ivec2(int(k) % kTile, int(k) / kTile);
+    if (any(greaterThan(q, ivec2(g.grid.xy)))) continue;
+    bool lit = false;
+    for (int j = 0; j < 4; ++j) {  // the four cells whose centres are the quad's corners
+      ivec2 c = clamp(q + ivec2(j & 1, j >> 1) - 1, ivec2(0), ivec2(g.grid.xy) - 1);
+      ivec2 b = c - first;
+      lit = lit || visible[b.y * kCells + b.x] > kVisible;
+    }
+    if (!lit) continue;
+    uint slot = atomicAdd(vertexCount, 6u) / 6u;  // the splat pass reset it
+    quads[slot] = uint(q.y) * (g.grid.x + 1u) + uint(q.x);
+  }
 }
 
 void main() {
-  if (kPass == kGlowSplat) {
+  if (kPass == kGlowSplat)
     splat();
-    return;
-  }
-  uint i = gl_GlobalInvocationID.x;
-  if (kPass == kGlowList) {
-    if (i < (g.grid.x + 1u) * (g.grid.y + 1u)) list(i);
-    return;
-  }
-  if (i < g.grid.x * g.grid.y) blur(uvec2(i % g.grid.x, i / g.grid.x), i);
+  else
+    lightTile();
 }

@@ -202,9 +202,11 @@ const uint kSplatFull = 50000u;
 const uint kSplatDepthBinding = 2u;  // the scene's depth, sampled (when target.w = 1)
 
 // The lava look's glow: bright lines spread light over cells of kGlowCell^2 pixels (glow.comp
-// adds each line's energy into its cell, blurs the cells, lists where there is light), drawn
-// as quads over the lit cells only (glow.vert, glow.frag).
+// adds each line's energy into its cell, then blurs the cells and lists where there is light,
+// a tile of kGlowTile^2 quads per workgroup), drawn as quads over the lit cells only
+// (glow.vert, glow.frag).
 const uint kGlowCell = 16u;
+const uint kGlowTile = 16u;
 const uint kGlowParticlesBinding = 0u;  // glow.comp: the particles as texels
 const uint kGlowSumsBinding = 1u;       // the cells' energy, two planes of uint
 const uint kGlowLightBinding = 2u;      // after the blur: RG float per cell
@@ -213,8 +215,7 @@ const uint kGlowSumTexelsBinding = 4u;  // the sums again, as R32_UINT texels (f
 const uint kGlowDrawListBinding = 0u;   // glow.vert: the list
 const uint kGlowDrawLightBinding = 1u;  // glow.frag: the light, as RG32F texels
 const uint kGlowSplat = 0u;             // glow.comp's passes (specialization constant 1)
-const uint kGlowBlur = 1u;
-const uint kGlowList = 2u;
+const uint kGlowLight = 1u;
 struct GlowParams {
   mat4 viewProj;  // as DrawParams
   vec4 style;     // as DrawParams

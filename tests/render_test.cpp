@@ -204,7 +204,8 @@ TEST_F(RenderTest, CachedGroundDrawsTheSameImage) {
     const OffscreenTarget target(device(), kSize);
     const auto drawn = host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
     EXPECT_FALSE(renderer.backdropReused());
-    // A fresh target: everything in it, depth included, must come from the copy.
+    // A fresh target: its colour must come from the copy, the depth tested against from the
+    // cache.
     const OffscreenTarget fresh(device(), kSize);
     const auto copied = host::renderOffscreen(*submitter_, renderer, simulation, fresh, camera_);
     EXPECT_TRUE(renderer.backdropReused());

@@ -136,12 +136,18 @@ bool FrameRenderer::copyBackdrop(VkCommandBuffer commands, const FrameTarget& ta
       c.color = createImage(device_, extent_, colorFormat_,
                             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                             kColor);
-      c.depth = createImage(
-          device_, extent_, kDepthFormat,
-          VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, kDepth);
+      c.depth = createImage(device_, extent_, kDepthFormat,
+                            VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                            kDepth);
     }
     toAttachment(commands, c.color.image, kColor);
-    toAttachment(commands, c.depth.image, kDepth);
+    // WAR: frames still in flight may test against (and the splat sample) the depth of the
+    // previous view.
+    imageBarrier(commands, c.depth.image, kDepth, VK_IMAGE_LAYOUT_UNDEFINED,
+                 VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                 kDepthStages | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, kDepthStages,
+                 VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
+                     VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
     beginRendering(commands, c.color.view, c.depth.view, extent_, false);
     backdrop_.recordDraw(commands, view, scene, lines_.style());
     cmdEndRendering_(commands);
@@ -151,27 +157,23 @@ bool FrameRenderer::copyBackdrop(VkCommandBuffer commands, const FrameTarget& ta
                  VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
                  VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                  VK_ACCESS_TRANSFER_READ_BIT);
+    // RAW: every frame of this view tests against (and the splat samples) this depth,
+    // read-only, in place.
     imageBarrier(commands, c.depth.image, kDepth, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-                 VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, kDepthStages,
-                 VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                 VK_ACCESS_TRANSFER_READ_BIT);
+                 VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL, kDepthStages,
+                 VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | kDepthStages,
+                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
     c.drawn = true;
   }
   discardInto(commands, target.color, kColor, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
               VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
-  discardInto(commands, target.depth, kDepth, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-              VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
   copyImage(commands, c.color.image, target.color, kColor, extent_);
-  copyImage(commands, c.depth.image, target.depth, kDepth, extent_);
-  // RAW: the lines' pass loads the colour; the splat and the depth test read the depth.
+  // RAW: the lines' pass loads the colour.
   imageBarrier(commands, target.color, kColor, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_TRANSFER_BIT,
                VK_ACCESS_TRANSFER_WRITE_BIT, kColorStage,
                VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT);
-  imageBarrier(commands, target.depth, kDepth, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-               VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_TRANSFER_BIT,
-               VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | kDepthStages,
-               VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
   return true;
 }
 
@@ -183,6 +185,9 @@ void FrameRenderer::record(VkCommandBuffer commands, uint32_t frame,
   const View view{camera.viewProj(float(target.extent.width) / float(target.extent.height)),
                   target.extent, camera.eye()};
   backdropReused_ = copyBackdrop(commands, target, view, simulation.scene());
+  // A reused backdrop's depth is the cache's own (read-only: the lines do not write depth);
+  // copying it would cost a frame more than the colour does on a CPU device.
+  const VkImageView depth = backdropReused_ ? cache_.depth.view.get() : target.depthView;
   if (!backdropReused_) {
     toAttachment(commands, target.color, kColor);
     toAttachment(commands, target.depth, kDepth);
@@ -200,8 +205,8 @@ void FrameRenderer::record(VkCommandBuffer commands, uint32_t frame,
                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | kDepthStages,
                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
   }
-  lines_.recordPrepare(commands, frame, simulation, view, target.depthView);
-  beginRendering(commands, target.colorView, target.depthView, target.extent, true);
+  lines_.recordPrepare(commands, frame, simulation, view, depth);
+  beginRendering(commands, target.colorView, depth, target.extent, true);
   lines_.recordDraw(commands, frame, simulation, view);
   cmdEndRendering_(commands);
   if (overlay) overlay(commands);

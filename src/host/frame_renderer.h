@@ -1,8 +1,9 @@
 // One frame of the `lava` program as a paragraph: the backdrop (drawn once per view into
-// images of its own and copied into each frame while the view repeats: two memcpys on a
-// CPU device instead of shading every pixel), the simulation's draw preparation (the
-// splat, tested against the frame's depth, and the lava look's glow), the lines, an
-// overlay (the demo's panel), then the target's final layout. Both looks take this path.
+// images of its own; while the view repeats, its colour is copied into each frame, a memcpy
+// on a CPU device instead of shading every pixel, and its depth is tested against in place),
+// the simulation's draw preparation (the splat, tested against the frame's depth, and the
+// lava look's glow), the lines, an overlay (the demo's panel), then the target's final
+// layout. Both looks take this path.
 #pragma once
 #include <functional>
 #include <vector>
@@ -28,7 +29,7 @@ class FrameRenderer {
   const LookSettings& settings() const { return lines_.settings(); }
 
   // Records the frame into `target` (its color and depth images' previous contents are
-  // discarded). `overlay` records with the color image in COLOR_ATTACHMENT_OPTIMAL and must
+  // discarded; the depth image is left alone while the cached backdrop's depth serves). `overlay` records with the color image in COLOR_ATTACHMENT_OPTIMAL and must
   // leave it there; it may begin a render pass of its own. A new target size waits for the
   // device to be idle first (the renderer's per-size resources are rebuilt).
   void record(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,

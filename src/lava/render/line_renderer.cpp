@@ -3,6 +3,12 @@
 // into fixed-point planes the size of the target; resolve.frag puts them over the scene);
 // in the lava look, then the glow (glow.comp over cells of the screen, glow.vert/.frag over
 // the lit cells only).
+//
+// recordPrepare's passes: one barrier after the simulation; the fills of what the passes
+// add into (the splat's sums, the glow's cells); one barrier; splat.comp and the glow's
+// splat; one barrier; the glow's light and list; one barrier before the draw. Barriers
+// and dispatches are the fixed cost of a frame on a software device (each is a flush of
+// its threads), so there are no more than the data flow needs.
 #include "lava/renderer.h"
 
 #include <glm/gtc/type_ptr.hpp>
@@ -47,7 +53,7 @@ struct LineRenderer::Impl {
   detail::UniqueDescriptorSetLayout lineSet, splatSet, resolveSet, glowSet, glowDrawSet;
   detail::UniquePipelineLayout lineLayout, splatLayout, resolveLayout, glowLayout, glowDrawLayout;
   detail::UniquePipeline plainLines, lavaLines, splatPipeline, plainResolve, lavaResolve, glowDraw;
-  detail::UniquePipeline glowSplat, glowBlur, glowList;
+  detail::UniquePipeline glowSplat, glowLight;
   detail::Image noDepth;  // 1x1, bound when the splat is given no scene depth
   VkExtent2D extent{0, 0};
   glm::uvec2 grid{0, 0};             // glow cells across and down
@@ -61,6 +67,8 @@ struct LineRenderer::Impl {
                    const View& view, VkImageView depth) const;
   void recordGlow(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
                   const View& view) const;
+  void recordGlowLight(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
+                       const View& view) const;
 };
 
 LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_t framesInFlight)
@@ -121,10 +129,8 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_
                                               sizeof(gpu::GlowParams));
   m.glowSplat = detail::createComputePipeline(c, m.glowLayout, LAVA_SPIRV(spirv::kGlowCompSpv),
                                               {gpu::kWorkgroupSize, gpu::kGlowSplat});
-  m.glowBlur = detail::createComputePipeline(c, m.glowLayout, LAVA_SPIRV(spirv::kGlowCompSpv),
-                                             {gpu::kWorkgroupSize, gpu::kGlowBlur});
-  m.glowList = detail::createComputePipeline(c, m.glowLayout, LAVA_SPIRV(spirv::kGlowCompSpv),
-                                             {gpu::kWorkgroupSize, gpu::kGlowList});
+  m.glowLight = detail::createComputePipeline(c, m.glowLayout, LAVA_SPIRV(spirv::kGlowCompSpv),
+                                              {gpu::kWorkgroupSize, gpu::kGlowLight});
   m.glowDrawSet = detail::createPushLayout(
       c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
       drawStages);
@@ -213,13 +219,9 @@ void LineRenderer::setExtent(VkExtent2D extent) {
                     detail::MemoryUse::Device);
     m.glow.push_back(std::move(g));
   }
-  // The glow passes leave the sums cleared and reset the list for the next frame; the
-  // first one finds them so.
+  // A frame's draw may come before any prepare has listed its quads: no quads yet.
   m.c.submitNow([&](VkCommandBuffer commands) {
-    for (const GlowSlot& g : m.glow) {
-      m.c.vk.CmdFillBuffer(commands, g.sums.get(), 0, VK_WHOLE_SIZE, 0);
-      m.c.vk.CmdFillBuffer(commands, g.list.get(), 0, VK_WHOLE_SIZE, 0);
-    }
+    for (const GlowSlot& g : m.glow) m.c.vk.CmdFillBuffer(commands, g.list.get(), 0, 16, 0);
   });
   m.extent = extent;
 }
@@ -261,15 +263,7 @@ void checkFrame(uint32_t frame, uint32_t framesInFlight) {
 void LineRenderer::Impl::recordSplat(VkCommandBuffer commands, uint32_t frame,
                                      const GpuSimulation& simulation, const View& view,
                                      VkImageView depth) const {
-  const Buffer& sums = accumulation[frame];
-  // WAR: this slot's last resolve.frag read the sums this fill clears.
-  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, 0,
-                        VK_PIPELINE_STAGE_TRANSFER_BIT, 0);
-  c.vk.CmdFillBuffer(commands, sums.get(), 0, VK_WHOLE_SIZE, 0);
-  // RAW/WAW: splat.comp adds atomically into the cleared sums.
-  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  const Buffer& sums = accumulation[frame];  // recordPrepare cleared them
   c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, splatPipeline);
   gpu::SplatParams params = splatParams(simulation, view, style, settings);
   params.target.w = depth ? 1u : 0u;
@@ -285,15 +279,11 @@ void LineRenderer::Impl::recordSplat(VkCommandBuffer commands, uint32_t frame,
                           &params);
     c.vk.CmdDispatch(commands, detail::groupCount(chunk.count, gpu::kWorkgroupSize), 1, 1);
   }
-  // RAW: resolve.frag reads the sums splat.comp wrote.
-  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                        VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
-                        VK_ACCESS_SHADER_READ_BIT);
 }
 
 void LineRenderer::Impl::recordGlow(VkCommandBuffer commands, uint32_t frame,
                                     const GpuSimulation& simulation, const View& view) const {
-  const GlowSlot& g = glow[frame];  // recordPrepare's first barrier ordered its last reads
+  const GlowSlot& g = glow[frame];  // recordPrepare cleared the sums
   gpu::GlowParams params = glowParams(simulation, view, settings, grid);
   const auto bind = [&](VkBufferView particles) {
     detail::PushDescriptors()
@@ -322,30 +312,25 @@ void LineRenderer::Impl::recordGlow(VkCommandBuffer commands, uint32_t frame,
         1, 1);
     params.target.z = 0;
   }
-  // RAW: the blur reads the sums the splat added; the list (next) counts into the
-  // arguments the splat reset.
-  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                        VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowBlur);
-  bind(simulation.chunks().front().texels);
-  c.vk.CmdDispatch(commands, detail::groupCount(uint64_t{grid.x} * grid.y, gpu::kWorkgroupSize),
-                   1, 1);
-  // RAW: the list reads the light the blur wrote; WAR: it clears the sums the blur read.
-  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                        VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowList);
-  bind(simulation.chunks().front().texels);
-  c.vk.CmdDispatch(
-      commands, detail::groupCount(uint64_t{grid.x + 1} * (grid.y + 1), gpu::kWorkgroupSize), 1,
-      1);
-  // RAW: the draw reads the list (its arguments too) and the light.
-  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                        VK_ACCESS_SHADER_WRITE_BIT,
-                        VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
-                            VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
-                        VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
+}
+
+void LineRenderer::Impl::recordGlowLight(VkCommandBuffer commands, uint32_t frame,
+                                         const GpuSimulation& simulation,
+                                         const View& view) const {
+  const GlowSlot& g = glow[frame];
+  const gpu::GlowParams params = glowParams(simulation, view, settings, grid);
+  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowLight);
+  detail::PushDescriptors()
+      .texels(gpu::kGlowParticlesBinding, simulation.chunks().front().texels)
+      .buffer(gpu::kGlowSumsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.sums.get())
+      .buffer(gpu::kGlowLightBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.light.get())
+      .buffer(gpu::kGlowListBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.list.get())
+      .texels(gpu::kGlowSumTexelsBinding, g.sumTexels)
+      .push(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowLayout);
+  c.vk.CmdPushConstants(commands, glowLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
+                        &params);
+  // One workgroup per tile of quads (there is one quad more than cells across and down).
+  c.vk.CmdDispatch(commands, grid.x / gpu::kGlowTile + 1, grid.y / gpu::kGlowTile + 1, 1);
 }
 
 void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
@@ -353,24 +338,49 @@ void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
                                  VkImageView depth) {
   const Impl& m = *impl_;
   checkFrame(frame, m.framesInFlight);
+  const bool splat = m.mode == LineMode::Splat;
+  const bool glow = m.style == LookStyle::Lava && m.settings.bloom > 0.0f;
+  if ((splat || glow) && (view.extent.width != m.extent.width ||
+                          view.extent.height != m.extent.height))
+    throw InvalidArgument("view.extent", "differs from the renderer's setExtent() (" +
+                                             std::to_string(m.extent.width) + "x" +
+                                             std::to_string(m.extent.height) + ")");
   // RAW: step.comp writes the particles, lines.vert, splat.comp or glow.comp reads them.
-  // WAR: this slot's last glow draw read the list (as its indirect arguments too) and the
-  // light that glow.comp rewrites (and which its last frame's pass cleared).
+  // WAR/WAW: this slot's last frame read (resolve.frag, glow.comp, the glow's draw, as its
+  // indirect arguments too) and wrote what the fills clear and the passes rewrite.
   detail::memoryBarrier(m.c, commands,
                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
                             VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
                             VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
                         VK_ACCESS_SHADER_WRITE_BIT,
-                        VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT |
+                            VK_PIPELINE_STAGE_TRANSFER_BIT,
+                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                            VK_ACCESS_TRANSFER_WRITE_BIT);
+  if (!splat && !glow) return;
+  if (splat) m.c.vk.CmdFillBuffer(commands, m.accumulation[frame].get(), 0, VK_WHOLE_SIZE, 0);
+  if (glow) m.c.vk.CmdFillBuffer(commands, m.glow[frame].sums.get(), 0, VK_WHOLE_SIZE, 0);
+  // RAW/WAW: splat.comp and glow.comp add atomically into the cleared sums.
+  detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                        VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-  const bool lava = m.style == LookStyle::Lava;
-  if (m.mode != LineMode::Splat && !lava) return;
-  if (view.extent.width != m.extent.width || view.extent.height != m.extent.height)
-    throw InvalidArgument("view.extent", "differs from the renderer's setExtent() (" +
-                                             std::to_string(m.extent.width) + "x" +
-                                             std::to_string(m.extent.height) + ")");
-  if (m.mode == LineMode::Splat) m.recordSplat(commands, frame, simulation, view, depth);
-  if (lava && m.settings.bloom > 0.0f) m.recordGlow(commands, frame, simulation, view);
+  if (splat) m.recordSplat(commands, frame, simulation, view, depth);
+  if (glow) {
+    m.recordGlow(commands, frame, simulation, view);
+    // RAW: the light pass reads the cells the splat added; it counts into the list's
+    // arguments the splat reset.
+    detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                          VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    m.recordGlowLight(commands, frame, simulation, view);
+  }
+  // RAW: resolve.frag reads the splat's sums; the glow's draw reads the list (its arguments
+  // too) and the light.
+  detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_SHADER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+                            VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                        VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
 }
 
 void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
