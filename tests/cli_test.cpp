@@ -482,9 +482,10 @@ TEST(Checkpoint, DamagedFilesExitTwoAndOverwriteNothing) {
 
 // Fault injection (issue 11): each command's fallible Vulkan calls, found by a first run
 // through the fault layer, each made to fail at every call (or, for one called more than 12
-// times, at five of them: see callsToFail) with one of the results it may return. Every
-// time: exit 1, one line naming the call (or the allocation) and the result, no partial
-// output, no hang.
+// times, at five of them: see callsToFail) and at the first call from each of its call
+// sites (the layer tells them apart by the return addresses in the program), with one of
+// the results it may return. Every time: exit 1, one line naming the call (or the
+// allocation) and the result, no partial output, no hang.
 struct FaultCommand {
   const char* name;
   const char* args;  // OUT: the output file or folder
@@ -538,18 +539,38 @@ TEST_P(FaultInjection, EveryFailingCallExitsOneWithOneLineAndNoPartialOutput) {
   const Result first = lava(args(), layer + "LAVA_FAULT_COUNTS=" + counts + " ");
   ASSERT_EQ(first.status, 0) << first.err;
   std::map<std::string, unsigned long long> calls;
+  std::map<std::string, std::set<unsigned long long>> siteCalls;  // each site's first call
+  size_t sites = 0;
   {
     std::ifstream in(counts);
-    std::string function;
-    unsigned long long n;
-    while (in >> function >> n) calls[function] = n;
+    std::string line;
+    while (std::getline(in, line)) {
+      std::istringstream words(line);
+      std::string word, function, where;
+      unsigned long long n = 0;
+      words >> word;
+      if (word == "site") {
+        words >> function >> n >> where;
+        ASSERT_NE(where, "unknown") << "the layer found no caller for " << line;
+        siteCalls[function].insert(n);
+        ++sites;
+      } else {
+        words >> n;
+        calls[word] = n;
+      }
+    }
   }
   ASSERT_GE(calls.size(), 4u) << "the layer saw the command's calls";
+  ASSERT_GE(sites, calls.size()) << "every function has at least one call site";
+  for (const auto& [function, n] : calls)
+    EXPECT_EQ(siteCalls[function].count(1), 1u) << function << "'s first call has a site";
   const std::string whole = c.folder ? "" : readFile(out);
-  size_t runs = 0, rotation = 0;
+  size_t runs = 0, rotation = 0, bySiteOnly = 0;
   for (const auto& [function, n] : calls) {
     const std::vector<std::string> results = resultsFor(function);
-    for (unsigned long long call : callsToFail(n)) {
+    std::set<unsigned long long> toFail = callsToFail(n);
+    for (unsigned long long call : siteCalls[function]) bySiteOnly += toFail.insert(call).second;
+    for (unsigned long long call : toFail) {
       // The device's destructor waits once more after the command's own final wait has
       // succeeded; nothing is left to fail then (and a destructor cannot report).
       if (function == "vkDeviceWaitIdle" && call == n && n > 1) continue;
@@ -577,6 +598,9 @@ TEST_P(FaultInjection, EveryFailingCallExitsOneWithOneLineAndNoPartialOutput) {
     }
   }
   EXPECT_GE(runs, 4u);
+  std::printf("%s: %zu functions, %zu call sites, %zu failing runs (%zu for sites no other run "
+              "reached)\n",
+              c.name, calls.size(), sites, runs, bySiteOnly);
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -5,10 +5,22 @@
 //
 // is set, returns that result from the 3rd call of vkAllocateMemory instead of calling down
 // (the Nth call across the whole process). LAVA_FAULT_COUNTS=FILE writes every wrapped
-// function's call count there at exit, so a test learns which calls a command makes.
+// function's call count there at exit, so a test learns which calls a command makes, and
+// for each call site the first call made from it:
+//
+//   vkAllocateMemory 57
+//   site vkAllocateMemory 3 liblava.so.0+0x4a2f1<liblava.so.0+0x51c0e<lava+0x3d2a0
+//
+// A site is where the call came from in the program: the first three return addresses on
+// the stack outside this layer and the Vulkan loader (module and offset), so that a helper
+// that makes the call for many callers (a buffer's constructor, a one-off submit) counts
+// once per caller.
 // Enabled with VK_LAYER_PATH (this folder's manifest) and VK_INSTANCE_LAYERS.
 #include <vulkan/vk_layer.h>
 #include <vulkan/vulkan.h>
+
+#include <dlfcn.h>
+#include <execinfo.h>
 
 #include <atomic>
 #include <cstdio>
@@ -64,12 +76,52 @@ std::map<std::string, unsigned long long>& counts() {
   return *c;
 }
 
+// Per function, each call site's first call (only while counting).
+std::map<std::string, std::map<std::string, unsigned long long>>& sites() {
+  static auto* s = new std::map<std::string, std::map<std::string, unsigned long long>>;
+  return *s;
+}
+
+bool countingSites() {
+  static const bool counting = std::getenv("LAVA_FAULT_COUNTS") != nullptr;
+  return counting;
+}
+
+// The call's site (see the top): module+offset of the first three return addresses that
+// are neither in this layer nor in the loader.
+std::string callSite() {
+  void* frames[32];
+  const int n = backtrace(frames, 32);
+  Dl_info self{};
+  dladdr(reinterpret_cast<void*>(&callSite), &self);
+  std::string site;
+  int kept = 0;
+  for (int i = 1; i < n && kept < 3; ++i) {
+    Dl_info info{};
+    if (!dladdr(frames[i], &info) || !info.dli_fname) continue;
+    if (info.dli_fbase == self.dli_fbase) continue;
+    const char* slash = std::strrchr(info.dli_fname, '/');
+    const std::string module = slash ? slash + 1 : info.dli_fname;
+    if (module.rfind("libvulkan.so", 0) == 0) continue;
+    char text[64];
+    // A return address less one: inside the call instruction, the same for every call.
+    std::snprintf(text, sizeof(text), "+0x%lx",
+                  static_cast<unsigned long>(static_cast<char*>(frames[i]) - 1 -
+                                             static_cast<char*>(info.dli_fbase)));
+    site += (kept++ ? "<" : "") + module + text;
+  }
+  return site.empty() ? "unknown" : site;
+}
+
 void writeCounts() {
   const char* path = std::getenv("LAVA_FAULT_COUNTS");
   if (!path) return;
   std::lock_guard<std::mutex> lock(countsMutex);
   if (FILE* f = std::fopen(path, "w")) {
     for (const auto& [name, n] : counts()) std::fprintf(f, "%s %llu\n", name.c_str(), n);
+    for (const auto& [name, bySite] : sites())
+      for (const auto& [site, first] : bySite)
+        std::fprintf(f, "site %s %llu %s\n", name.c_str(), first, site.c_str());
     std::fclose(f);
   }
 }
@@ -79,9 +131,11 @@ bool inject(const char* function, VkResult& result) {
   static const bool registered = [] { return std::atexit(writeCounts) == 0; }();
   (void)registered;
   unsigned long long n;
+  const std::string site = countingSites() ? callSite() : std::string();
   {
     std::lock_guard<std::mutex> lock(countsMutex);
     n = ++counts()[function];
+    if (!site.empty()) sites()[function].emplace(site, n);  // kept: the first
   }
   const Plan& p = plan();
   if (p.call == n && p.function == function) {
