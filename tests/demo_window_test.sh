@@ -89,6 +89,44 @@ echo "$out" | grep -q 'saved lava-screenshot-000.png' || { echo "FAIL: no screen
 echo "$out" | grep -q 'keys took effect: pause 2, step 1, reset 1, panel 1, screenshot 1' ||
   { echo "FAIL: a key did not take effect exactly once"; exit 1; }
 
+# The panel (drawn into an image of its own when it changes, copied over each frame): in
+# the window, at its place, opaque (ImGui's window background, 15,15,15, behind its text);
+# gone once H hides it. Read from the X server's screen, as a user sees it.
+drive panel "--size 640x360 --warmup 3" '
+sleep 1.5
+xwd -root -silent > shown.xwd
+xdotool key h
+sleep 0.5
+xwd -root -silent > hidden.xwd
+xdotool key Escape'
+status=$?
+echo "panel: $(cat "$work/panel.txt")"
+[ $status -eq 0 ] || { echo "FAIL: lava demo for the panel exited $status"; exit 1; }
+python3 - "$work/shown.xwd" "$work/hidden.xwd" <<'CHECK' || exit 1
+import struct, sys
+def pixels(path):  # an XWD dump of the root window, 24-bit TrueColor: (w, h, rows)
+    data = open(path, "rb").read()
+    header = struct.unpack(">25I", data[:100])
+    size, width, height, pitch, colors = header[0], header[4], header[5], header[12], header[19]
+    first = size + 12 * colors
+    return width, height, lambda x, y: tuple(data[first + y * pitch + 4 * x + 2 - c] for c in range(3))
+def counts(path):  # within the panel's rectangle: background pixels and bright (text) ones
+    w, h, at = pixels(path)
+    background = bright = total = 0
+    for y in range(30, 200, 2):
+        for x in range(14, 380, 2):
+            p = at(x, y)
+            total += 1
+            background += p == (15, 15, 15)
+            bright += min(p) > 150
+    return background / total, bright
+shown, hidden = counts(sys.argv[1]), counts(sys.argv[2])
+print("panel shown: %.0f%% background, %d bright; hidden: %.0f%% background, %d bright"
+      % (100 * shown[0], shown[1], 100 * hidden[0], hidden[1]))
+if not (shown[0] > 0.5 and shown[1] > 100): sys.exit("FAIL: the panel is not in the window")
+if not (hidden[0] < 0.05): sys.exit("FAIL: the panel stayed after H")
+CHECK
+
 # One tap of Esc while frames are slow (262,144 lines through the graphics pipeline, over
 # 100 ms each on lavapipe): pressed and released within one frame, it must still quit.
 drive slow "--size 640x360 --renderer lines --particles 262144 --rate 100000 --warmup 3" '

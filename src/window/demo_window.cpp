@@ -367,13 +367,19 @@ class Demo {
 
   void buildUi() {
     if (!showUi_) return;
+    // The figures are refreshed four times a second: readable, and a panel that did not
+    // change is not drawn again (Ui::record copies the one it drew).
+    const double now = glfwGetTime();
+    if (now - shown_.at >= 0.25 || now < shown_.at) {
+      shown_ = {now, fps_, simulateMs_, drawMs_, simulatedSeconds_, alive()};
+    }
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowBgAlpha(0.75f);
     ImGui::Begin("Lava", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
     ImGui::Text("%s", device_.properties().deviceName);
-    ImGui::Text("%.1f fps   GPU: simulate %.2f ms, draw %.2f ms", fps_, simulateMs_, drawMs_);
-    ImGui::Text("alive %llu / %llu   t = %.2f s", static_cast<unsigned long long>(alive()),
-                static_cast<unsigned long long>(scene_.particles()), simulatedSeconds_);
+    ImGui::Text("%.1f fps   GPU: simulate %.2f ms, draw %.2f ms", shown_.fps, shown_.simulateMs,
+                shown_.drawMs);
+    ImGui::Text("alive %llu / %llu   t = %.2f s", static_cast<unsigned long long>(shown_.alive),
+                static_cast<unsigned long long>(scene_.particles()), shown_.seconds);
     ImGui::Checkbox("pause [Space]", &paused_);
     ImGui::SameLine();
     if (ImGui::Button("step [N]")) stepOnce_ = true;
@@ -527,7 +533,7 @@ class Demo {
     simulation_->recordSimulate(commands, index);
     vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, queries_, query + 1);
     const auto overlay = [&](VkCommandBuffer c) {
-      if (showUi_) ui_->record(c, target.colorView, target.extent);
+      if (showUi_) ui_->record(c, target);
     };
     renderer_.record(commands, index, *simulation_, target, camera_, overlay);
     presenter_->recordAfterFrame(commands, index);
@@ -567,6 +573,10 @@ class Demo {
   double owedSeconds_ = 0.0;
   double simulatedSeconds_ = 0.0;  // the steps' sizes summed (h may change in the panel)
   double fps_ = 0.0, simulateMs_ = 0.0, drawMs_ = 0.0;
+  struct Shown {  // the panel's figures, as last refreshed
+    double at = -1.0, fps = 0.0, simulateMs = 0.0, drawMs = 0.0, seconds = 0.0;
+    uint64_t alive = 0;
+  } shown_;
   ScenePanel panel_{options_.scene};
   uint32_t screenshots_ = 0;
 };
