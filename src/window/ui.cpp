@@ -64,6 +64,20 @@ host::OwnedRenderPass createPass(VkDevice device, VkFormat format, bool over) {
   return host::OwnedRenderPass(device, pass);
 }
 
+host::OwnedFramebuffer createFramebuffer(VkDevice device, VkRenderPass pass, VkImageView color,
+                                         VkExtent2D extent) {
+  VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+  info.renderPass = pass;
+  info.attachmentCount = 1;
+  info.pAttachments = &color;
+  info.width = extent.width;
+  info.height = extent.height;
+  info.layers = 1;
+  VkFramebuffer framebuffer = VK_NULL_HANDLE;
+  HOST_CHECK(vkCreateFramebuffer(device, &info, nullptr, &framebuffer));
+  return host::OwnedFramebuffer(device, framebuffer);
+}
+
 // What ImGui drew, as one number: every vertex, index and command of its draw data.
 uint64_t drawKey(const ImDrawData& data) {
   uint64_t h = 1469598103934665603ull;  // FNV-1a, 64 bits
@@ -191,17 +205,7 @@ void Ui::drawPanel(VkCommandBuffer commands, VkExtent2D extent) {
                                VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
                                    VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                                VK_IMAGE_ASPECT_COLOR_BIT);
-    VkImageView view = panel_.view;
-    VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-    info.renderPass = panelPass_;
-    info.attachmentCount = 1;
-    info.pAttachments = &view;
-    info.width = extent.width;
-    info.height = extent.height;
-    info.layers = 1;
-    VkFramebuffer framebuffer = VK_NULL_HANDLE;
-    HOST_CHECK(vkCreateFramebuffer(device_, &info, nullptr, &framebuffer));
-    panelFramebuffer_ = host::OwnedFramebuffer(device_, framebuffer);
+    panelFramebuffer_ = createFramebuffer(device_, panelPass_, panel_.view, extent);
     panelExtent_ = extent;
   }
   VkClearValue clear{};
@@ -250,18 +254,8 @@ void Ui::record(VkCommandBuffer commands, const host::FrameTarget& target) {
   const VkImageView color = target.colorView;
   const VkExtent2D extent = target.extent;
   auto it = framebuffers_.find(color);
-  if (it == framebuffers_.end()) {
-    VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-    info.renderPass = overPass_;
-    info.attachmentCount = 1;
-    info.pAttachments = &color;
-    info.width = extent.width;
-    info.height = extent.height;
-    info.layers = 1;
-    VkFramebuffer framebuffer = VK_NULL_HANDLE;
-    HOST_CHECK(vkCreateFramebuffer(device_, &info, nullptr, &framebuffer));
-    it = framebuffers_.emplace(color, host::OwnedFramebuffer(device_, framebuffer)).first;
-  }
+  if (it == framebuffers_.end())
+    it = framebuffers_.emplace(color, createFramebuffer(device_, overPass_, color, extent)).first;
   VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
   begin.renderPass = overPass_;
   begin.framebuffer = it->second;

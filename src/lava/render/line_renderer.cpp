@@ -65,10 +65,12 @@ struct LineRenderer::Impl {
 
   void recordSplat(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
                    const View& view, VkImageView depth) const;
+  void bindGlow(VkCommandBuffer commands, const GlowSlot& g, VkBufferView particles,
+                const gpu::GlowParams& params) const;
   void recordGlow(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
-                  const View& view) const;
+                  gpu::GlowParams params) const;
   void recordGlowLight(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
-                       const View& view) const;
+                       const gpu::GlowParams& params) const;
 };
 
 LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_t framesInFlight)
@@ -281,21 +283,24 @@ void LineRenderer::Impl::recordSplat(VkCommandBuffer commands, uint32_t frame,
   }
 }
 
+// glow.comp's bindings (both passes: `particles` is the splat's chunk) and parameters.
+void LineRenderer::Impl::bindGlow(VkCommandBuffer commands, const GlowSlot& g,
+                                  VkBufferView particles, const gpu::GlowParams& params) const {
+  detail::PushDescriptors()
+      .texels(gpu::kGlowParticlesBinding, particles)
+      .buffer(gpu::kGlowSumsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.sums.get())
+      .buffer(gpu::kGlowLightBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.light.get())
+      .buffer(gpu::kGlowListBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.list.get())
+      .texels(gpu::kGlowSumTexelsBinding, g.sumTexels)
+      .push(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowLayout);
+  c.vk.CmdPushConstants(commands, glowLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
+                        &params);
+}
+
 void LineRenderer::Impl::recordGlow(VkCommandBuffer commands, uint32_t frame,
-                                    const GpuSimulation& simulation, const View& view) const {
+                                    const GpuSimulation& simulation,
+                                    gpu::GlowParams params) const {
   const GlowSlot& g = glow[frame];  // recordPrepare cleared the sums
-  gpu::GlowParams params = glowParams(simulation, view, settings, grid);
-  const auto bind = [&](VkBufferView particles) {
-    detail::PushDescriptors()
-        .texels(gpu::kGlowParticlesBinding, particles)
-        .buffer(gpu::kGlowSumsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.sums.get())
-        .buffer(gpu::kGlowLightBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.light.get())
-        .buffer(gpu::kGlowListBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.list.get())
-        .texels(gpu::kGlowSumTexelsBinding, g.sumTexels)
-        .push(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowLayout);
-    c.vk.CmdPushConstants(commands, glowLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
-                          &params);
-  };
   c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowSplat);
   const uint32_t stride = params.grid.w;
   params.target.z = 1;  // the first chunk's splat resets the list
@@ -305,7 +310,7 @@ void LineRenderer::Impl::recordGlow(VkCommandBuffer commands, uint32_t frame,
                             VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                             VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
     params.grid.z = chunk.count;
-    bind(chunk.texels);
+    bindGlow(commands, g, chunk.texels, params);
     c.vk.CmdDispatch(
         commands, detail::groupCount((uint64_t{chunk.count} + stride - 1) / stride,
                                      gpu::kWorkgroupSize),
@@ -316,19 +321,9 @@ void LineRenderer::Impl::recordGlow(VkCommandBuffer commands, uint32_t frame,
 
 void LineRenderer::Impl::recordGlowLight(VkCommandBuffer commands, uint32_t frame,
                                          const GpuSimulation& simulation,
-                                         const View& view) const {
-  const GlowSlot& g = glow[frame];
-  const gpu::GlowParams params = glowParams(simulation, view, settings, grid);
+                                         const gpu::GlowParams& params) const {
   c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowLight);
-  detail::PushDescriptors()
-      .texels(gpu::kGlowParticlesBinding, simulation.chunks().front().texels)
-      .buffer(gpu::kGlowSumsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.sums.get())
-      .buffer(gpu::kGlowLightBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.light.get())
-      .buffer(gpu::kGlowListBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.list.get())
-      .texels(gpu::kGlowSumTexelsBinding, g.sumTexels)
-      .push(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowLayout);
-  c.vk.CmdPushConstants(commands, glowLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
-                        &params);
+  bindGlow(commands, glow[frame], simulation.chunks().front().texels, params);
   // One workgroup per tile of quads (there is one quad more than cells across and down).
   c.vk.CmdDispatch(commands, grid.x / gpu::kGlowTile + 1, grid.y / gpu::kGlowTile + 1, 1);
 }
@@ -366,13 +361,14 @@ void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
                         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
   if (splat) m.recordSplat(commands, frame, simulation, view, depth);
   if (glow) {
-    m.recordGlow(commands, frame, simulation, view);
+    const gpu::GlowParams params = glowParams(simulation, view, m.settings, m.grid);
+    m.recordGlow(commands, frame, simulation, params);
     // RAW: the light pass reads the cells the splat added; it counts into the list's
     // arguments the splat reset.
     detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                           VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                           VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-    m.recordGlowLight(commands, frame, simulation, view);
+    m.recordGlowLight(commands, frame, simulation, params);
   }
   // RAW: resolve.frag reads the splat's sums; the glow's draw reads the list (its arguments
   // too) and the light.
