@@ -65,6 +65,11 @@ const uint kLifetimesConstant = 5u;   // 1 when some emitter has a lifetime
 // both sides of a branch (a CPU device's SIMD lanes) runs only the kind in that slot.
 const uint kForceKindsConstant = 6u;
 const uint kColliderKindsConstant = 7u;
+// 0 for the dispatches of the workgroups none of whose particles is born in the dispatch
+// (the host knows which: births fill each emitter's ring contiguously): their invocations
+// leave out the birth search and the emission, which a CPU device's SIMD lanes would run
+// masked for every particle of every dispatch, born or not.
+const uint kBirthsConstant = 8u;
 
 const uint kMaxEmitters = 16u;
 const uint kMaxForces = 16u;
@@ -158,7 +163,8 @@ struct SceneParams {
 // Push constants of step.comp: which steps and which particles one dispatch runs.
 struct StepParams {
   uvec4 run;    // x first schedule entry, y steps, z entries per emitter in the schedule
-  uvec4 chunk;  // x first particle (state index) of the bound chunk, y particles in it
+  uvec4 chunk;  // x first particle (state index) of the bound chunk, y particles in it,
+               // z the dispatch's first invocation (a multiple of kWorkgroupSize)
 };
 
 // The two looks (DrawParams.style.w, BackdropParams.eye.w).

@@ -29,6 +29,7 @@ layout(constant_id = kCollidersConstant) const uint kColliders = 0u;
 layout(constant_id = kLifetimesConstant) const uint kLifetimes = 0u;
 layout(constant_id = kForceKindsConstant) const uint kForceKinds = 0u;
 layout(constant_id = kColliderKindsConstant) const uint kColliderKinds = 0u;
+layout(constant_id = kBirthsConstant) const uint kBirths = 1u;
 
 layout(std430, binding = kParticleBinding) writeonly buffer Particles {
   Particle particles[];
@@ -326,6 +327,10 @@ State load(uint local) {
   Particle q = Particle(texelFetch(particleTexels, int(2u * local)),
                         texelFetch(particleTexels, int(2u * local + 1u)));
   State st = State(q.posAge.xyz, q.velMass.xyz, q.posAge.w, q.velMass.w, k, 0u);
+  if (kBirths == 0u) {  // none of this dispatch's births lands on this workgroup's particles
+    if (st.age < 0.0) st.first = steps;
+    return st;
+  }
   const uint ringSlot = slot - scene.emitters[k].ring.w;
   uvec4 start = schedule[firstEntry].ring;
   uint base = schedule[firstEntry].sums.x;
@@ -366,7 +371,7 @@ void main() {
   const uint steps = p.run.y;
   const uint count = p.chunk.y;
   const uint stride = (count + kParticlesPerInvocation - 1u) / kParticlesPerInvocation;
-  const uint a = gl_GlobalInvocationID.x;
+  const uint a = p.chunk.z + gl_GlobalInvocationID.x;
   if (a >= stride) return;
   const State none = State(vec3(0.0), vec3(0.0), -1.0, 0.0, 0u, steps);
   State s0 = load(a);

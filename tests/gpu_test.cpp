@@ -80,6 +80,32 @@ TEST_F(GpuTest, RingWrapsManyTimesWithinOneDispatch) {
   }
 }
 
+TEST_F(GpuTest, BirthsOfManyEmittersLandWhereTheFullStepRuns) {
+  // Only the workgroups a dispatch's births land on run step.comp's birth search; the rest
+  // run it without. Emitters whose births fall in a few workgroups, in many (more ranges
+  // than the dispatch splits into: the whole chunk runs the full step), or everywhere.
+  for (const size_t emitters : {2u, 12u}) {
+    for (const double rate : {900.0, 2.5e6}) {
+      SCOPED_TRACE(std::to_string(emitters) + " emitters, rate " + std::to_string(rate));
+      Scene s;
+      const Emitter first = s.emitters[0];
+      s.emitters.assign(emitters, first);
+      for (size_t k = 0; k < emitters; ++k) {
+        s.emitters[k].particles = 1500 + 97 * uint32_t(k);
+        s.emitters[k].rate = rate * double(k + 1) / double(emitters);
+        s.emitters[k].velocity.x = 0.25f * float(k);
+      }
+      GpuSimulation gpu(device(), s);
+      CpuSimulation cpu(s);
+      for (uint64_t steps : {1u, 40u, 256u, 300u}) {
+        gpu.advance(steps);
+        cpu.advance(steps);
+        expectIdentical(gpu.state().particles, cpu.state().particles);
+      }
+    }
+  }
+}
+
 TEST_F(GpuTest, SeedSceneIsBitIdenticalAndPinned) {
   const Scene s;
   GpuSimulation gpu(device(), s);

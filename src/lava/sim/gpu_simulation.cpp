@@ -30,6 +30,13 @@ constexpr VkDeviceSize kParticleBytes = sizeof(Particle);
 constexpr uint32_t kMaxStepsPerDispatch = 256;
 constexpr uint32_t kBlockingSteps = 4096;  // steps one blocking submission runs
 
+// step.comp for a scene: with the birth search and emission, and without (for the
+// workgroups no birth of a dispatch lands on).
+struct StepPipelines {
+  VkPipeline births = VK_NULL_HANDLE;
+  VkPipeline none = VK_NULL_HANDLE;
+};
+
 // One slot of the schedule: each emitter's entries for the steps planned into it (a region
 // of `capacity` entries per emitter), the scene's parameters for them, and on the host each
 // emitter's births before each entry (to keep a dispatch under 2^31 births).
@@ -39,12 +46,70 @@ struct ScheduleSlot {
   uint32_t capacity = 0;                      // entries per emitter
   uint32_t planned = 0;                       // steps the last update() wrote, until recorded
   std::vector<std::vector<uint64_t>> births;  // [emitter][i]: births before entry i
-  VkPipeline pipeline = VK_NULL_HANDLE;       // for the scene planned into it
+  std::vector<std::vector<uint32_t>> heads;   // [emitter][i]: ring slot of entry i's first birth
+  std::vector<uint32_t> rings;                // [emitter]: its first slot
+  StepPipelines pipelines;                    // for the scene planned into it
 };
 
 VkDeviceSize alignUp(VkDeviceSize bytes, VkDeviceSize alignment) {
   alignment = std::max<VkDeviceSize>(alignment, 1);
   return (bytes + alignment - 1) / alignment * alignment;
+}
+
+// Half-open ranges of workgroups of one step dispatch.
+struct GroupRange {
+  uint32_t begin, end;
+};
+
+// The workgroups of `chunk` some of whose particles are born in entries [from, to) of
+// `slot`: births fill each emitter's ring contiguously from the first entry's head, and
+// invocation a steps the chunk's particles a + j * stride (j < kParticlesPerInvocation).
+// Sorted and merged; at most a few ranges, else the whole chunk.
+std::vector<GroupRange> birthGroups(const ScheduleSlot& slot, const ParticleChunk& chunk,
+                                    const Scene& scene, uint32_t from, uint32_t to) {
+  const uint64_t stride =
+      (uint64_t{chunk.count} + gpu::kParticlesPerInvocation - 1) / gpu::kParticlesPerInvocation;
+  const uint32_t groups = detail::groupCount(stride, gpu::kWorkgroupSize);
+  std::vector<GroupRange> ranges;
+  const auto invocations = [&](uint64_t a0, uint64_t a1) {  // invocations [a0, a1)
+    ranges.push_back({static_cast<uint32_t>(a0 / gpu::kWorkgroupSize),
+                      static_cast<uint32_t>((a1 + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize)});
+  };
+  const auto slots = [&](uint64_t g0, uint64_t g1) {  // state slots [g0, g1)
+    const uint64_t l0 = std::max(g0, chunk.first), l1 = std::min(g1, chunk.first + chunk.count);
+    if (l0 >= l1) return;
+    const uint64_t a0 = (l0 - chunk.first) % stride, a1 = (l1 - 1 - chunk.first) % stride + 1;
+    if (l1 - l0 >= stride) {
+      invocations(0, stride);
+    } else if (a0 < a1) {
+      invocations(a0, a1);
+    } else {
+      invocations(a0, stride);
+      invocations(0, a1);
+    }
+  };
+  for (size_t k = 0; k < scene.emitters.size(); ++k) {
+    const uint64_t total = slot.births[k][to] - slot.births[k][from];
+    if (total == 0) continue;
+    const uint64_t capacity = scene.emitters[k].particles;
+    const uint64_t born = std::min(total, capacity);
+    const uint64_t head = slot.heads[k][from], ring = slot.rings[k];
+    slots(ring + head, ring + std::min(head + born, capacity));
+    if (head + born > capacity) slots(ring, ring + head + born - capacity);
+  }
+  std::sort(ranges.begin(), ranges.end(),
+            [](const GroupRange& a, const GroupRange& b) { return a.begin < b.begin; });
+  std::vector<GroupRange> merged;
+  for (const GroupRange& r : ranges) {
+    if (!merged.empty() && r.begin <= merged.back().end) {
+      merged.back().end = std::max(merged.back().end, r.end);
+    } else {
+      merged.push_back(r);
+    }
+  }
+  constexpr size_t kMaxRanges = 8;  // more dispatches than that cost more than they save
+  if (merged.size() > kMaxRanges) merged.assign(1, GroupRange{0, groups});
+  return merged;
 }
 
 // step.comp compiled with the float controls this device honours.
@@ -79,7 +144,9 @@ struct GpuSimulation::Impl {
   Impl(detail::DeviceContext& context, const GpuSimulationOptions& o) : c(context), options(o) {}
 
   uint32_t blockingSlot() const { return options.framesInFlight; }
-  VkPipeline pipelineFor(const Scene& scene);
+  // Creates what is missing (`none` too unless onlyBirths: a run that never steps need not
+  // compile it).
+  StepPipelines pipelinesFor(const Scene& scene, bool onlyBirths = false);
   void plan(const Scene& scene, uint32_t slot, uint32_t steps);
   // Records the steps planned into `slot` and marks them recorded.
   void record(const Scene& scene, VkCommandBuffer commands, uint32_t slot);
@@ -132,6 +199,7 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
     slot.sceneOffset = sceneOffset;
     slot.capacity = s < options.framesInFlight ? options.maxStepsPerFrame : kBlockingSteps;
     slot.births.assign(emitters, std::vector<uint64_t>(slot.capacity + 1, 0));
+    slot.heads.assign(emitters, std::vector<uint32_t>(slot.capacity, 0));
     offset += alignUp(emitters * slot.capacity * sizeof(gpu::EmitEntry),
                       c.limits.minStorageBufferOffsetAlignment);
     sceneOffset += alignUp(sizeof(gpu::SceneParams), c.limits.minUniformBufferOffsetAlignment);
@@ -147,7 +215,7 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
       VK_SHADER_STAGE_COMPUTE_BIT);
   m.pipelineLayout = detail::createPipelineLayout(c, m.setLayout, VK_SHADER_STAGE_COMPUTE_BIT,
                                                   sizeof(gpu::StepParams));
-  m.pipelineFor(scene);
+  m.pipelinesFor(scene, true);
   setState(initialState(scene));
 }
 
@@ -175,18 +243,25 @@ uint64_t GpuSimulation::step() const {
 
 void GpuSimulation::setScene(const Scene& scene) {
   Simulation::setScene(scene);
-  impl_->pipelineFor(scene_);  // created now, not while recording
+  impl_->pipelinesFor(scene_);  // created now, not while recording
 }
 
-VkPipeline GpuSimulation::Impl::pipelineFor(const Scene& scene) {
-  const detail::Constants constants = detail::stepConstants(scene);
-  auto it = pipelines.find(constants);
-  if (it == pipelines.end())
-    it = pipelines
-             .emplace(constants,
-                      detail::createComputePipeline(c, pipelineLayout, stepShader(c), constants))
-             .first;
-  return it->second;
+StepPipelines GpuSimulation::Impl::pipelinesFor(const Scene& scene, bool onlyBirths) {
+  StepPipelines both;
+  for (uint32_t births : {1u, 0u}) {
+    if (births == 0 && onlyBirths) break;
+    detail::Constants constants = detail::stepConstants(scene);
+    constants.resize(gpu::kBirthsConstant + 1, 0u);
+    constants[gpu::kBirthsConstant] = births;
+    auto it = pipelines.find(constants);
+    if (it == pipelines.end())
+      it = pipelines
+               .emplace(constants,
+                        detail::createComputePipeline(c, pipelineLayout, stepShader(c), constants))
+               .first;
+    (births ? both.births : both.none) = it->second;
+  }
+  return both;
 }
 
 void GpuSimulation::Impl::plan(const Scene& scene, uint32_t index, uint32_t steps) {
@@ -196,7 +271,9 @@ void GpuSimulation::Impl::plan(const Scene& scene, uint32_t index, uint32_t step
                                        " steps per update, got " + std::to_string(steps));
   auto* entries =
       reinterpret_cast<gpu::EmitEntry*>(static_cast<char*>(schedule.mapped()) + slot.offset);
+  slot.rings.assign(scene.emitters.size(), 0);
   for (size_t k = 0; k < scene.emitters.size(); ++k) {
+    if (k > 0) slot.rings[k] = slot.rings[k - 1] + scene.emitters[k - 1].particles;
     const Emitter& e = scene.emitters[k];
     const uint64_t period = detail::burstPeriod(e, scene.dt);
     gpu::EmitEntry* region = entries + k * slot.capacity;
@@ -208,13 +285,14 @@ void GpuSimulation::Impl::plan(const Scene& scene, uint32_t index, uint32_t step
                         static_cast<uint32_t>(b.firstSerial >> 32)};
       region[i].sums = {static_cast<uint32_t>(births), 0u, 0u, 0u};
       before[i] = births;
+      slot.heads[k][i] = b.head;
       births += b.count;
     }
     before[steps] = births;
   }
   const gpu::SceneParams params = detail::sceneParams(scene);
   std::memcpy(static_cast<char*>(sceneParams.mapped()) + slot.sceneOffset, &params, sizeof(params));
-  slot.pipeline = pipelineFor(scene);
+  slot.pipelines = pipelinesFor(scene);
   slot.planned = steps;
   step += steps;
   schedule.flush();
@@ -224,7 +302,7 @@ void GpuSimulation::Impl::plan(const Scene& scene, uint32_t index, uint32_t step
 void GpuSimulation::Impl::record(const Scene& scene, VkCommandBuffer commands, uint32_t index) {
   ScheduleSlot& slot = slots[index];
   if (slot.planned == 0) return;
-  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, slot.pipeline);
+  VkPipeline bound = VK_NULL_HANDLE;
   gpu::StepParams params{};
   params.run.z = slot.capacity;
   const VkDeviceSize scheduleBytes = scene.emitters.size() * slot.capacity * sizeof(gpu::EmitEntry);
@@ -261,11 +339,36 @@ void GpuSimulation::Impl::record(const Scene& scene, VkCommandBuffer commands, u
           .buffer(gpu::kSceneBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, sceneParams.get(),
                   slot.sceneOffset, sizeof(gpu::SceneParams))
           .push(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout);
-      c.vk.CmdPushConstants(commands, pipelineLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
-                            sizeof(params), &params);
       const uint64_t invocations =
           (uint64_t{chunk.count} + gpu::kParticlesPerInvocation - 1) / gpu::kParticlesPerInvocation;
-      c.vk.CmdDispatch(commands, detail::groupCount(invocations, gpu::kWorkgroupSize), 1, 1);
+      const uint32_t groups = detail::groupCount(invocations, gpu::kWorkgroupSize);
+      // The workgroups a birth lands on run the full step; the rest, in between, the one
+      // without births. Each dispatch covers workgroups [begin, end).
+      bool first = true;
+      const auto dispatch = [&](VkPipeline pipeline, uint32_t begin, uint32_t end) {
+        if (begin >= end) return;
+        // The workgroups touch other particles, but the bound buffer is one resource to
+        // synchronisation (validation included): WAR/WAW/RAW across the earlier dispatch.
+        if (!first)
+          detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                                VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                                VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+        first = false;
+        if (pipeline != bound)
+          c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+        bound = pipeline;
+        params.chunk.z = begin * gpu::kWorkgroupSize;
+        c.vk.CmdPushConstants(commands, pipelineLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                              sizeof(params), &params);
+        c.vk.CmdDispatch(commands, end - begin, 1, 1);
+      };
+      uint32_t next = 0;
+      for (const GroupRange& r : birthGroups(slot, chunk, scene, done, done + steps)) {
+        dispatch(slot.pipelines.none, next, r.begin);
+        dispatch(slot.pipelines.births, r.begin, r.end);
+        next = r.end;
+      }
+      dispatch(slot.pipelines.none, next, groups);
     }
   }
   slot.planned = 0;
