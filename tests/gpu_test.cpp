@@ -82,26 +82,34 @@ TEST_F(GpuTest, RingWrapsManyTimesWithinOneDispatch) {
 
 TEST_F(GpuTest, BirthsOfManyEmittersLandWhereTheFullStepRuns) {
   // Only the workgroups a dispatch's births land on run step.comp's birth search; the rest
-  // run it without. Emitters whose births fall in a few workgroups, in many (more ranges
-  // than the dispatch splits into: the whole chunk runs the full step), or everywhere.
-  for (const size_t emitters : {2u, 12u}) {
-    for (const double rate : {900.0, 2.5e6}) {
-      SCOPED_TRACE(std::to_string(emitters) + " emitters, rate " + std::to_string(rate));
-      Scene s;
-      const Emitter first = s.emitters[0];
-      s.emitters.assign(emitters, first);
-      for (size_t k = 0; k < emitters; ++k) {
-        s.emitters[k].particles = 1500 + 97 * uint32_t(k);
-        s.emitters[k].rate = rate * double(k + 1) / double(emitters);
-        s.emitters[k].velocity.x = 0.25f * float(k);
-      }
-      GpuSimulation gpu(device(), s);
-      CpuSimulation cpu(s);
-      for (uint64_t steps : {1u, 40u, 256u, 300u}) {
-        gpu.advance(steps);
-        cpu.advance(steps);
-        expectIdentical(gpu.state().particles, cpu.state().particles);
-      }
+  // (where at least 32 workgroups in a row have none) run it without. Rings large enough for
+  // that: births that wrap their ring within a dispatch (1 emitter), that wrap the
+  // invocations' four strides (2), that fill a ring several times (3), and emitters spread
+  // over more ranges than a dispatch splits into (12: the whole chunk runs the full step).
+  struct Case {
+    size_t emitters;
+    uint32_t particles, more;  // emitter k has particles + k * more
+    double rate;               // births per second of the last emitter
+    uint64_t last;             // steps of the last advance
+  };
+  for (const Case& c : {Case{1, 50000, 0, 2.5e4, 2000}, Case{2, 40000, 97, 2e5, 300},
+                        Case{3, 30011, 97, 3e6, 300}, Case{12, 8000, 2003, 900.0, 300}}) {
+    SCOPED_TRACE(std::to_string(c.emitters) + " emitters of " + std::to_string(c.particles) +
+                 ", rate " + std::to_string(c.rate));
+    Scene s;
+    const Emitter first = s.emitters[0];
+    s.emitters.assign(c.emitters, first);
+    for (size_t k = 0; k < c.emitters; ++k) {
+      s.emitters[k].particles = c.particles + c.more * uint32_t(k);
+      s.emitters[k].rate = c.rate * double(k + 1) / double(c.emitters);
+      s.emitters[k].velocity.x = 0.25f * float(k);
+    }
+    GpuSimulation gpu(device(), s);
+    CpuSimulation cpu(s);
+    for (uint64_t steps : {uint64_t{1}, uint64_t{40}, uint64_t{256}, c.last}) {
+      gpu.advance(steps);
+      cpu.advance(steps);
+      expectIdentical(gpu.state().particles, cpu.state().particles);
     }
   }
 }
