@@ -106,7 +106,9 @@ class LAVA_API GpuSimulation final : public Simulation {
 
   // CPU side of a frame: advances the emission clocks by `steps` (0..maxStepsPerFrame) and
   // writes their schedule and the scene's parameters into frame slot `frame`. Every
-  // update() must be followed by one recordSimulate(frame) that the host submits.
+  // update() must be followed by one recordSimulate(frame) that the host submits. The
+  // first update() compiles the step's second pipeline (the one for workgroups no birth
+  // lands on), so that a simulation that never steps does not pay for it.
   void update(uint32_t frame, uint32_t steps);
   // Records the steps of the last update(frame), once: a second call before the next
   // update(frame) records nothing (and nothing when it planned none).
