@@ -78,6 +78,22 @@ host::OwnedFramebuffer createFramebuffer(VkDevice device, VkRenderPass pass, VkI
   return host::OwnedFramebuffer(device, framebuffer);
 }
 
+// ImGui's draw data recorded in `pass` (either of createPass's: `clears` for the panel's
+// own) over `framebuffer`.
+void renderDrawData(VkCommandBuffer commands, VkRenderPass pass, bool clears,
+                    VkFramebuffer framebuffer, VkExtent2D extent) {
+  const VkClearValue clear{};
+  VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+  begin.renderPass = pass;
+  begin.framebuffer = framebuffer;
+  begin.renderArea = {{0, 0}, extent};
+  begin.clearValueCount = clears ? 1 : 0;
+  begin.pClearValues = clears ? &clear : nullptr;
+  vkCmdBeginRenderPass(commands, &begin, VK_SUBPASS_CONTENTS_INLINE);
+  ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), commands);
+  vkCmdEndRenderPass(commands);
+}
+
 // What ImGui drew, as one number: every vertex, index and command of its draw data.
 uint64_t drawKey(const ImDrawData& data) {
   uint64_t h = 1469598103934665603ull;  // FNV-1a, 64 bits
@@ -201,23 +217,14 @@ void Ui::drawPanel(VkCommandBuffer commands, VkExtent2D extent) {
   if (extent.width != panelExtent_.width || extent.height != panelExtent_.height) {
     vkDeviceWaitIdle(device_);  // frames in flight may still copy from the old image
     panelFramebuffer_ = {};
-    panel_ = host::createImage(lavaDevice_, extent, format_,
-                               VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
-                                   VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                               VK_IMAGE_ASPECT_COLOR_BIT);
+    panel_ =
+        host::createImage(lavaDevice_, extent, format_,
+                          VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                          VK_IMAGE_ASPECT_COLOR_BIT);
     panelFramebuffer_ = createFramebuffer(device_, panelPass_, panel_.view, extent);
     panelExtent_ = extent;
   }
-  VkClearValue clear{};
-  VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-  begin.renderPass = panelPass_;
-  begin.framebuffer = panelFramebuffer_;
-  begin.renderArea = {{0, 0}, extent};
-  begin.clearValueCount = 1;
-  begin.pClearValues = &clear;
-  vkCmdBeginRenderPass(commands, &begin, VK_SUBPASS_CONTENTS_INLINE);
-  ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), commands);
-  vkCmdEndRenderPass(commands);
+  renderDrawData(commands, panelPass_, true, panelFramebuffer_, extent);
 }
 
 void Ui::record(VkCommandBuffer commands, const host::FrameTarget& target) {
@@ -233,21 +240,18 @@ void Ui::record(VkCommandBuffer commands, const host::FrameTarget& target) {
     const std::vector<VkImageCopy> regions = panelRegions(*data, target.extent);
     if (regions.empty()) return;
     // RAW/WAW: the scene was drawn into the image the copies write.
-    host::imageBarrier(commands, target.color, VK_IMAGE_ASPECT_COLOR_BIT,
-                       VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                       VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                       VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
-                       VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                       VK_ACCESS_TRANSFER_WRITE_BIT);
+    host::imageBarrier(
+        commands, target.color, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+        VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+        VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+        VK_ACCESS_TRANSFER_WRITE_BIT);
     vkCmdCopyImage(commands, panel_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target.color,
-                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, uint32_t(regions.size()),
-                   regions.data());
+                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, uint32_t(regions.size()), regions.data());
     // RAW: whatever follows reads (or presents) the frame as a colour attachment's.
     host::imageBarrier(commands, target.color, VK_IMAGE_ASPECT_COLOR_BIT,
                        VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                        VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                       VK_ACCESS_TRANSFER_WRITE_BIT,
-                       VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                       VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
                        VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT);
     return;
   }
@@ -256,13 +260,7 @@ void Ui::record(VkCommandBuffer commands, const host::FrameTarget& target) {
   auto it = framebuffers_.find(color);
   if (it == framebuffers_.end())
     it = framebuffers_.emplace(color, createFramebuffer(device_, overPass_, color, extent)).first;
-  VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-  begin.renderPass = overPass_;
-  begin.framebuffer = it->second;
-  begin.renderArea = {{0, 0}, extent};
-  vkCmdBeginRenderPass(commands, &begin, VK_SUBPASS_CONTENTS_INLINE);
-  ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), commands);
-  vkCmdEndRenderPass(commands);
+  renderDrawData(commands, overPass_, false, it->second, extent);
 }
 
 }  // namespace lava::window

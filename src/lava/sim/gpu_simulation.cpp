@@ -277,9 +277,10 @@ void GpuSimulation::Impl::plan(const Scene& scene, uint32_t index, uint32_t step
                                        " steps per update, got " + std::to_string(steps));
   auto* entries =
       reinterpret_cast<gpu::EmitEntry*>(static_cast<char*>(schedule.mapped()) + slot.offset);
+  const gpu::SceneParams params = detail::sceneParams(scene);
   slot.rings.assign(scene.emitters.size(), 0);
   for (size_t k = 0; k < scene.emitters.size(); ++k) {
-    if (k > 0) slot.rings[k] = slot.rings[k - 1] + scene.emitters[k - 1].particles;
+    slot.rings[k] = params.emitters[k].ring.w;  // the first slot, as step.comp reads it
     const Emitter& e = scene.emitters[k];
     const uint64_t period = detail::burstPeriod(e, scene.dt);
     gpu::EmitEntry* region = entries + k * slot.capacity;
@@ -296,7 +297,6 @@ void GpuSimulation::Impl::plan(const Scene& scene, uint32_t index, uint32_t step
     }
     before[steps] = births;
   }
-  const gpu::SceneParams params = detail::sceneParams(scene);
   std::memcpy(static_cast<char*>(sceneParams.mapped()) + slot.sceneOffset, &params, sizeof(params));
   slot.pipelines = pipelinesFor(scene);
   slot.planned = steps;
