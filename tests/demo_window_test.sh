@@ -33,6 +33,27 @@ done
 out=$(xvfb-run -a -s "$screen" "$lava" demo --frames 30 --size 320x180 2>&1)
 echo "default: $out"
 echo "$out" | grep -q ", MIT-SHM; GPU" || { echo "FAIL: lavapipe on Xvfb did not pick MIT-SHM"; exit 1; }
+# Unless the user chose LP_NUM_THREADS, the demo runs llvmpipe with two threads per core
+# (and says so); a choice of the user's stands.
+cores=$(nproc)
+echo "$out" | grep -q "^demo: LP_NUM_THREADS=$((2 * cores)) (llvmpipe, two threads per core" ||
+  { echo "FAIL: the demo did not set LP_NUM_THREADS to twice the $cores cores"; exit 1; }
+# llvmpipe's rasteriser threads in a running demo, with the environment "$@" added.
+llvmpipe_threads() {
+  xvfb-run -a -s "$screen" env "$@" sh -c '"$0" demo --size 160x90 > /dev/null 2>&1 & pid=$!
+    for i in $(seq 150); do
+      grep -qs "^llvmpipe-" /proc/$pid/task/*/comm && break; sleep 0.1
+    done
+    sleep 0.5; cat /proc/$pid/task/*/comm 2>/dev/null | grep -c "^llvmpipe-"
+    kill $pid; wait $pid 2> /dev/null' "$lava"
+}
+threads=$(llvmpipe_threads LAVA_TEST=1)
+[ "$threads" -eq $((2 * cores)) ] ||
+  { echo "FAIL: the demo ran $threads llvmpipe threads, not $((2 * cores))"; exit 1; }
+threads=$(llvmpipe_threads LP_NUM_THREADS=1)
+[ "$threads" -eq 1 ] || { echo "FAIL: LP_NUM_THREADS=1 gave $threads llvmpipe threads"; exit 1; }
+out=$(env LP_NUM_THREADS=1 xvfb-run -a -s "$screen" "$lava" demo --frames 10 --size 320x180 2>&1)
+echo "$out" | grep -q "LP_NUM_THREADS" && { echo "FAIL: the user's LP_NUM_THREADS was not kept"; exit 1; }
 out=$(xvfb-run -a -s "$screen -extension MIT-SHM" "$lava" demo --frames 30 --size 320x180 2>&1)
 echo "no MIT-SHM: $out"
 echo "$out" | grep -q ", mailbox; GPU" || { echo "FAIL: without MIT-SHM the swapchain was not used"; exit 1; }

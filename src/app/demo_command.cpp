@@ -1,7 +1,10 @@
 // `lava demo`: the interactive window; with no display (or --headless) the same scene is
 // rendered offscreen into PNG frames instead, and the command says where they are.
 #include <cstdio>
+#include <cstdlib>
 #include <optional>
+#include <string>
+#include <thread>
 
 #include "commands.h"
 #include "frames.h"
@@ -13,6 +16,30 @@
 
 namespace lava::app {
 namespace {
+
+// On a CPU device, llvmpipe (lavapipe) hands each of its threads one contiguous share of a
+// dispatch's workgroups, fixed in advance. The splat's work is uneven along the ring (young,
+// fast lava draws long lines; landed lava one pixel), so one thread finishes its share early
+// and its core idles while the other draws the rest (docs/benchmarks.md, "Two threads per
+// core"). With two threads per core the system's scheduler fills that core. Unless the user
+// chose LP_NUM_THREADS, the demo sets it before any Vulkan call; returns the value it set,
+// or 0. No other driver reads it.
+unsigned oversubscribeCpuDevice() {
+  if (std::getenv("LP_NUM_THREADS")) return 0;
+  const unsigned cores = std::thread::hardware_concurrency();
+  if (cores == 0) return 0;
+  const unsigned threads = 2 * cores;
+  return setenv("LP_NUM_THREADS", std::to_string(threads).c_str(), 0) == 0 ? threads : 0;
+}
+
+// The line saying so, on a llvmpipe device.
+void sayThreads(unsigned threads, const std::string& device) {
+  if (threads && device.rfind("llvmpipe", 0) == 0)
+    std::printf(
+        "demo: LP_NUM_THREADS=%u (llvmpipe, two threads per core; set LP_NUM_THREADS "
+        "to choose)\n",
+        threads);
+}
 
 class DemoCommand final : public Command {
  public:
@@ -59,6 +86,7 @@ class DemoCommand final : public Command {
 
   int run() override {
     options_.resolve();
+    const unsigned threads = oversubscribeCpuDevice();
     demo_.validation = validationRequested();
     if (!demo_.device) demo_.device = deviceOptions(demo_.device).index;
     demo_.style = look_.style;
@@ -75,6 +103,7 @@ class DemoCommand final : public Command {
             s.frames, s.seconds, s.seconds > 0 ? s.frames / s.seconds : 0.0, s.size.width,
             s.size.height, static_cast<unsigned long long>(demo_.scene.particles()),
             s.device.c_str(), s.presentMode.c_str(), s.simulateMs, s.drawMs);
+        sayThreads(threads, s.device);
         if (s.effects.any())
           std::printf("demo: keys took effect: pause %u, step %u, reset %u, panel %u, "
                       "screenshot %u\n",
@@ -100,6 +129,7 @@ class DemoCommand final : public Command {
         plan.frames, seconds, seconds > 0 ? plan.frames / seconds : 0.0, plan.size.width,
         plan.size.height, static_cast<unsigned long long>(demo_.scene.particles()),
         plan.folder.c_str());
+    sayThreads(threads, device.properties().deviceName);
     return finish(device, 0);
   }
 
