@@ -10,6 +10,7 @@
 #    then one Esc tap while frames are slow (a tap shorter than a frame must not be lost).
 set -u
 lava=$1
+fault_layer=$2  # the folder of VK_LAYER_LAVA_fault's manifest
 screen="-screen 0 1600x1000x24"
 
 summary() {  # the demo's own summary line, or fail
@@ -28,6 +29,25 @@ for run in "lines swapchain mailbox" "splat shm MIT-SHM"; do
   summary "$out" 400
   echo "$out" | grep -q ", $3; GPU" || { echo "FAIL: not presented by $3"; exit 1; }
 done
+
+# The panel's GPU times come from timestamps each frame copies into memory the host reads
+# after the frame's fence: no vkGetQueryPoolResults per frame (lavapipe drains the queue
+# there, which left one frame in flight). Counted by the fault layer ($2), failing nothing.
+counts=$(mktemp)
+out=$(xvfb-run -a -s "$screen" env LAVA_VALIDATION=0 VK_LAYER_PATH="$fault_layer" \
+      VK_INSTANCE_LAYERS=VK_LAYER_LAVA_fault LAVA_FAULT_COUNTS="$counts" \
+      "$lava" demo --frames 60 --size 320x180 2>&1)
+status=$?
+echo "timestamps: $out"
+[ $status -eq 0 ] || { echo "FAIL: lava demo under the fault layer exited $status"; exit 1; }
+grep -q '^vkQueueSubmit ' "$counts" || { echo "FAIL: the fault layer counted no calls"; exit 1; }
+queries=$(sed -n 's/^vkGetQueryPoolResults \([0-9]*\).*/\1/p' "$counts")
+rm -f "$counts"
+[ "${queries:-0}" -eq 0 ] ||
+  { echo "FAIL: the demo called vkGetQueryPoolResults $queries times"; exit 1; }
+draw=$(echo "$out" | sed -n 's/.*GPU per frame: simulate [0-9.]* ms, draw \([0-9.]*\) ms.*/\1/p')
+awk -v d="${draw:-0}" 'BEGIN { exit !(d > 0) }' ||
+  { echo "FAIL: no GPU draw time read from the timestamps"; exit 1; }
 
 # The default on lavapipe is MIT-SHM; a server without it gets the swapchain.
 out=$(xvfb-run -a -s "$screen" "$lava" demo --frames 30 --size 320x180 2>&1)

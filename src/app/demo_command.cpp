@@ -99,16 +99,18 @@ class DemoCommand final : public Command {
         const window::DemoSummary s = window::runDemoWindow(demo_);
         std::printf(
             "demo: %u frames in %.2f s, average %.1f fps (%ux%u, %llu particles, %s, %s; "
-            "GPU per frame: simulate %.2f ms, draw %.2f ms)\n",
+            "GPU per frame: simulate %.2f ms, draw %.2f ms; CPU per frame %.2f ms)\n",
             s.frames, s.seconds, s.seconds > 0 ? s.frames / s.seconds : 0.0, s.size.width,
             s.size.height, static_cast<unsigned long long>(demo_.scene.particles()),
-            s.device.c_str(), s.presentMode.c_str(), s.simulateMs, s.drawMs);
+            s.device.c_str(), s.presentMode.c_str(), s.simulateMs, s.drawMs,
+            s.frames ? 1e3 * s.cpuSeconds / s.frames : 0.0);
         sayThreads(threads, s.device);
         if (s.effects.any())
-          std::printf("demo: keys took effect: pause %u, step %u, reset %u, panel %u, "
-                      "screenshot %u\n",
-                      s.effects.pauses, s.effects.steps, s.effects.resets,
-                      s.effects.panelToggles, s.effects.screenshots);
+          std::printf(
+              "demo: keys took effect: pause %u, step %u, reset %u, panel %u, "
+              "screenshot %u\n",
+              s.effects.pauses, s.effects.steps, s.effects.resets, s.effects.panelToggles,
+              s.effects.screenshots);
         return s.validationMessages ? 1 : 0;
       } catch (const window::NoDisplay& e) {
         std::printf("demo: %s; rendering headless instead\n", e.what());

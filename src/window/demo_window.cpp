@@ -6,11 +6,12 @@
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_vulkan.h>
 
+#include <sys/resource.h>
+#include <unistd.h>
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -18,6 +19,7 @@
 #include <optional>
 #include <vector>
 
+#include "frame_timer.h"
 #include "host/frame_renderer.h"
 #include "host/offscreen.h"
 #include "host/output.h"
@@ -32,7 +34,6 @@ namespace {
 
 constexpr uint32_t kFramesInFlight = 2;
 constexpr uint32_t kStepsPerFrameMax = 2048;
-constexpr uint32_t kQueriesPerFrame = 3;  // start, after the simulation, after the draw
 
 std::string glfwError() {
   const char* description = nullptr;
@@ -101,17 +102,14 @@ DeviceOptions windowDeviceOptions(const DemoOptions& options) {
 struct FrameSlot {
   VkCommandBuffer commands = VK_NULL_HANDLE;
   host::OwnedFence inFlight;
-  bool timed = false;  // its queries hold results from a finished frame
 };
 
-uint64_t timestampMask(const Device& device) {
-  uint32_t count = 0;
-  VkPhysicalDevice physical = device.handles().physicalDevice;
-  vkGetPhysicalDeviceQueueFamilyProperties(physical, &count, nullptr);
-  std::vector<VkQueueFamilyProperties> families(count);
-  vkGetPhysicalDeviceQueueFamilyProperties(physical, &count, families.data());
-  const uint32_t bits = families.at(device.handles().queueFamily).timestampValidBits;
-  return bits >= 64 ? ~uint64_t{0} : (uint64_t{1} << bits) - 1;
+// CPU time of this process, all its threads (the device's too on a CPU device), in s.
+double processCpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const auto seconds = [](const timeval& t) { return double(t.tv_sec) + 1e-6 * double(t.tv_usec); };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
 }
 
 // --present, or when it is not given: MIT-SHM for a CPU device (lavapipe) on an X server
@@ -155,7 +153,7 @@ class Demo {
         format_(windowFormat(path_, device_, surface_.handle)),
         simulation_(std::make_unique<GpuSimulation>(device_, scene_, simulationOptions())),
         renderer_(device_, format_.format, kFramesInFlight, options.style),
-        timestampMask_(timestampMask(device_)) {
+        timer_(device_, kFramesInFlight) {
     if (path_ == PresentPath::Shm)
       presenter_ = std::make_unique<ShmPresenter>(device_, window_.handle, kFramesInFlight);
     else
@@ -185,6 +183,7 @@ class Demo {
 
   DemoSummary run() {
     const auto start = std::chrono::steady_clock::now();
+    const double cpuStart = processCpuSeconds();
     auto last = start;
     uint32_t presented = 0;
     for (uint64_t iteration = 0; !glfwWindowShouldClose(window_.handle); ++iteration) {
@@ -207,6 +206,7 @@ class Demo {
     summary.frames = presented;
     summary.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    summary.cpuSeconds = processCpuSeconds() - cpuStart;
     summary.size = presenter_->extent();
     summary.device = device_.properties().deviceName;
     summary.presentMode = presenter_->name();
@@ -237,12 +237,6 @@ class Demo {
 
   void createFrameSlots() {
     VkDevice device = device_.handles().device;
-    VkQueryPoolCreateInfo queryInfo{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
-    queryInfo.queryType = VK_QUERY_TYPE_TIMESTAMP;
-    queryInfo.queryCount = kQueriesPerFrame * kFramesInFlight;
-    VkQueryPool queries = VK_NULL_HANDLE;
-    HOST_CHECK(vkCreateQueryPool(device, &queryInfo, nullptr, &queries));
-    queries_ = host::OwnedQueryPool(device, queries);
     VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     poolInfo.queueFamilyIndex = device_.handles().queueFamily;
@@ -293,19 +287,11 @@ class Demo {
     }
   }
 
-  void readTimings(FrameSlot& slot, uint32_t index) {
-    if (!slot.timed) return;
-    uint64_t stamps[kQueriesPerFrame];
-    if (vkGetQueryPoolResults(device_.handles().device, queries_, index * kQueriesPerFrame,
-                              kQueriesPerFrame, sizeof(stamps), stamps, sizeof(uint64_t),
-                              VK_QUERY_RESULT_64_BIT) != VK_SUCCESS)
-      return;
-    const double period = device_.limits().timestampPeriod * 1e-6;  // ticks to ms
-    const auto ticks = [this](uint64_t a, uint64_t b) {
-      return double(((b & timestampMask_) - (a & timestampMask_)) & timestampMask_);
-    };
-    simulateMs_ = simulateMs_ * 0.9 + 0.1 * ticks(stamps[0], stamps[1]) * period;
-    drawMs_ = drawMs_ * 0.9 + 0.1 * ticks(stamps[1], stamps[2]) * period;
+  void readTimings(uint32_t index) {
+    if (const std::optional<FrameTimes> t = timer_.read(index)) {
+      simulateMs_ = simulateMs_ * 0.9 + 0.1 * t->simulateMs;
+      drawMs_ = drawMs_ * 0.9 + 0.1 * t->drawMs;
+    }
   }
 
   // Steps owed for this frame: a fixed h decoupled from the frame rate (at most 0.1 s of
@@ -396,8 +382,9 @@ class Demo {
       renderer_.setStyle(lava ? LookStyle::Lava : LookStyle::Plain);
     if (lava) {
       LookSettings look = renderer_.settings();
-      bool changed = ImGui::SliderFloat("exposure", &look.exposure, 0.05f, 16.0f, "%.2f",
-                                        ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp);
+      bool changed =
+          ImGui::SliderFloat("exposure", &look.exposure, 0.05f, 16.0f, "%.2f",
+                             ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp);
       changed |= ImGui::SliderFloat("bloom", &look.bloom, 0.0f, 4.0f, "%.2f",
                                     ImGuiSliderFlags_AlwaysClamp);
       if (changed) renderer_.setSettings(look);
@@ -501,7 +488,7 @@ class Demo {
       vkDeviceWaitIdle(device);  // the frames in flight may still run
       throw VulkanError(waited, "vkWaitForFences", __FILE__, __LINE__);
     }
-    readTimings(slot, index);
+    readTimings(index);
 
     const host::FrameTarget target = presenter_->acquire(index);
     if (!target.color) {
@@ -527,21 +514,18 @@ class Demo {
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     HOST_CHECK(vkBeginCommandBuffer(commands, &begin));
-    const uint32_t query = index * kQueriesPerFrame;
-    vkCmdResetQueryPool(commands, queries_, query, kQueriesPerFrame);
-    vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, query);
+    timer_.recordStart(commands, index);
     simulation_->recordSimulate(commands, index);
-    vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, queries_, query + 1);
+    timer_.recordSimulated(commands, index);
     const auto overlay = [&](VkCommandBuffer c) {
       if (showUi_) ui_->record(c, target);
     };
     renderer_.record(commands, index, *simulation_, target, camera_, overlay);
     presenter_->recordAfterFrame(commands, index);
-    vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, query + 2);
+    timer_.recordEnd(commands, index);
     HOST_CHECK(vkEndCommandBuffer(commands));
 
     if (!presenter_->submitAndPresent(commands, fence, index)) resized_ = true;
-    slot.timed = true;
     ++frame_;
     return true;
   }
@@ -555,10 +539,9 @@ class Demo {
   VkSurfaceFormatKHR format_;
   std::unique_ptr<GpuSimulation> simulation_;
   host::FrameRenderer renderer_;
-  uint64_t timestampMask_;
+  FrameTimer timer_;
   std::unique_ptr<Presenter> presenter_;
   std::unique_ptr<Ui> ui_;
-  host::OwnedQueryPool queries_;
   host::OwnedCommandPool pool_;
   std::array<FrameSlot, kFramesInFlight> slots_;
   OrbitCamera camera_;

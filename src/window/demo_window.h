@@ -49,6 +49,7 @@ struct DemoEffects {
 struct DemoSummary {
   uint32_t frames = 0;
   double seconds = 0.0;
+  double cpuSeconds = 0.0;  // of the process, all its threads, over the frames
   VkExtent2D size{0, 0};
   std::string device;
   std::string presentMode;
