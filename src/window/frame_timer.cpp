@@ -19,7 +19,7 @@ FrameTimer::FrameTimer(const Device& device, uint32_t slots)
     : device_(device),
       mask_(validBits(device)),
       msPerTick_(double(device.limits().timestampPeriod) * 1e-6),
-      recorded_(slots, false) {
+      pending_(slots, false) {
   VkDevice handle = device.handles().device;
   VkQueryPoolCreateInfo queryInfo{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
   queryInfo.queryType = VK_QUERY_TYPE_TIMESTAMP;
@@ -50,7 +50,7 @@ FrameTimer::FrameTimer(const Device& device, uint32_t slots)
 void FrameTimer::recordStart(VkCommandBuffer commands, uint32_t slot) {
   vkCmdResetQueryPool(commands, queries_, slot * kStamps, kStamps);
   vkCmdWriteTimestamp(commands, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, slot * kStamps);
-  recorded_.at(slot) = true;
+  pending_.at(slot) = true;
 }
 
 void FrameTimer::recordSimulated(VkCommandBuffer commands, uint32_t slot) const {
@@ -67,8 +67,9 @@ void FrameTimer::recordEnd(VkCommandBuffer commands, uint32_t slot) const {
                       VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
 }
 
-std::optional<FrameTimes> FrameTimer::read(uint32_t slot) const {
-  if (!recorded_.at(slot)) return std::nullopt;
+std::optional<FrameTimes> FrameTimer::read(uint32_t slot) {
+  if (!pending_.at(slot)) return std::nullopt;
+  pending_[slot] = false;
   if (!coherent_) {
     VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, memory_, 0,
                               VK_WHOLE_SIZE};

@@ -1,7 +1,9 @@
-// The GPU time of each frame's simulation and draw, from three timestamps per frame slot
-// that the frame's own commands copy into host-visible memory. They are read once the
-// slot's fence has signalled, so no frame waits on vkGetQueryPoolResults: lavapipe drains
-// the whole queue there, which kept the demo at one frame in flight.
+// The GPU time of a frame's simulation and draw, from three timestamps per frame slot that
+// the frame's own commands copy into host-visible memory. They are read once the slot's
+// fence has signalled, so no frame waits on vkGetQueryPoolResults: lavapipe drains the
+// whole queue there, which kept the demo at one frame in flight. Only some frames are
+// timed (the caller chooses): on lavapipe each timestamp is a pass of the rasteriser's
+// threads over every tile, about 1 ms a frame for the three.
 #pragma once
 #include <vulkan/vulkan.h>
 
@@ -24,11 +26,12 @@ class FrameTimer {
   FrameTimer(const FrameTimer&) = delete;
   FrameTimer& operator=(const FrameTimer&) = delete;
 
-  void recordStart(VkCommandBuffer commands, uint32_t slot);  // resets the slot's stamps
+  void recordStart(VkCommandBuffer commands, uint32_t slot);  // this frame is timed
   void recordSimulated(VkCommandBuffer commands, uint32_t slot) const;
   void recordEnd(VkCommandBuffer commands, uint32_t slot) const;  // stamps and copies them
-  // The slot's last frame's times, once its fence has signalled; none before its first.
-  std::optional<FrameTimes> read(uint32_t slot) const;
+  // Once the slot's fence has signalled: its last frame's times if that frame was timed and
+  // they were not read yet.
+  std::optional<FrameTimes> read(uint32_t slot);
 
  private:
   static constexpr uint32_t kStamps = 3;  // start, after the simulation, after the draw
@@ -40,7 +43,7 @@ class FrameTimer {
   const uint64_t* mapped_ = nullptr;
   uint64_t mask_;  // the queue's valid timestamp bits
   double msPerTick_;
-  std::vector<bool> recorded_;  // per slot: a frame's stamps were recorded
+  std::vector<bool> pending_;  // per slot: a timed frame's stamps not read yet
 };
 
 }  // namespace lava::window
