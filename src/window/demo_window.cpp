@@ -184,6 +184,7 @@ class Demo {
   DemoSummary run() {
     const auto start = std::chrono::steady_clock::now();
     const double cpuStart = processCpuSeconds();
+    lastTimed_ = glfwGetTime();
     auto last = start;
     uint32_t presented = 0;
     for (uint64_t iteration = 0; !glfwWindowShouldClose(window_.handle); ++iteration) {
@@ -564,7 +565,9 @@ class Demo {
   double owedSeconds_ = 0.0;
   double simulatedSeconds_ = 0.0;  // the steps' sizes summed (h may change in the panel)
   double fps_ = 0.0, simulateMs_ = 0.0, drawMs_ = 0.0;
-  double lastTimed_ = -1.0;  // glfwGetTime() of the last timed frame
+  // glfwGetTime() of the last timed frame; the first frames are not timed (they draw the
+  // cached backdrop and may compile shaders).
+  double lastTimed_ = 0.0;
   uint64_t timedFrames_ = 0;
   struct Shown {  // the panel's figures, as last refreshed
     double at = -1.0, fps = 0.0, simulateMs = 0.0, drawMs = 0.0, seconds = 0.0;
