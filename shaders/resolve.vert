@@ -1,6 +1,26 @@
 #version 460
-// One triangle covering the screen.
+// One quad (two triangles, six vertices) per resolve tile of the target, clipped to it, for
+// the tiles splat.comp marked; the vertices of the others fall on one point outside the clip
+// volume and draw nothing. Adjacent quads share their edges exactly: no pixel twice.
+#extension GL_GOOGLE_include_directive : require
+#include "shared.h"
+
+layout(std430, binding = kResolveMarksBinding) restrict readonly buffer Marks {
+  uint marks[];
+};
+layout(push_constant) uniform Push {
+  SplatParams s;
+};
+
 void main() {
-  vec2 p = vec2((gl_VertexIndex << 1) & 2, gl_VertexIndex & 2);
-  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+  uint tile = uint(gl_VertexIndex) / 6u, corner = uint(gl_VertexIndex) % 6u;
+  if (marks[tile] == 0u) {
+    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+    return;
+  }
+  uint tilesAcross = (s.target.x + kResolveTile - 1u) / kResolveTile;
+  // Corners (0,0) (1,0) (0,1), (0,1) (1,0) (1,1).
+  uvec2 c = uvec2(corner == 1u || corner >= 4u ? 1u : 0u, corner == 2u || corner == 3u || corner == 5u ? 1u : 0u);
+  uvec2 pixel = min((uvec2(tile % tilesAcross, tile / tilesAcross) + c) * kResolveTile, s.target.xy);
+  gl_Position = vec4(vec2(pixel) / vec2(s.target.xy) * 2.0 - 1.0, 0.0, 1.0);
 }

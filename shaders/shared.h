@@ -206,6 +206,13 @@ struct SplatParams {
 const float kSplatScale = 128.0f;
 const uint kSplatFull = 50000u;
 const uint kSplatDepthBinding = 2u;  // the scene's depth, sampled (when target.w = 1)
+// The resolve draws only the tiles of kResolveTile^2 pixels that lines were added into:
+// splat.comp marks them (one uint per tile, row by row, non-zero when marked) and
+// resolve.vert makes one quad of each marked tile. On a CPU device a full-screen resolve
+// costs as much as a frame of a few thousand particles.
+const uint kResolveTile = 64u;
+const uint kSplatMarksBinding = 3u;
+const uint kResolveMarksBinding = 1u;
 
 // The lava look's glow: bright lines spread light over cells of kGlowCell^2 pixels (glow.comp
 // adds each line's energy into its cell, then blurs the cells and lists where there is light,

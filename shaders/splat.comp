@@ -17,6 +17,9 @@ layout(std430, binding = kSplatSumsBinding) restrict buffer Accumulation {
   uint accumulation[];
 };
 layout(binding = kSplatDepthBinding) uniform sampler2D sceneDepth;
+layout(std430, binding = kSplatMarksBinding) restrict buffer Marks {
+  uint marks[];
+};
 layout(push_constant) uniform Push {
   SplatParams s;
 };
@@ -29,6 +32,28 @@ bool hidden(vec2 p, float z) {
   ivec2 at = ivec2(floor(p));
   if (any(lessThan(at, ivec2(0))) || any(greaterThanEqual(at, ivec2(s.target.xy)))) return false;
   return z > texelFetch(sceneDepth, at, 0).r;
+}
+
+// Marks the resolve's tiles that the pixels from `first` on the major axis may land in: n
+// pixels along it, and across it between the first and last pixel's `minor` and a pixel
+// more either side (more than the walk's rounding). Every writer writes the same 1, and a
+// tile already marked is only read.
+void mark(bool xMajor, int first, uint n, float minor, float slope) {
+  float minorEnd = minor + float(n - 1u) * slope;
+  vec2 size = vec2(s.target.xy);
+  float majorSize = xMajor ? size.x : size.y, minorSize = xMajor ? size.y : size.x;
+  // Clipped to the target in floats first: no int overflow far off screen.
+  vec2 major = clamp(vec2(float(first), float(first) + float(n) - 1.0), 0.0, majorSize - 1.0);
+  vec2 across = clamp(vec2(floor(min(minor, minorEnd)) - 1.0, floor(max(minor, minorEnd)) + 1.0),
+                      0.0, minorSize - 1.0);
+  uvec2 lo = uvec2(xMajor ? vec2(major.x, across.x) : vec2(across.x, major.x)) / kResolveTile;
+  uvec2 hi = uvec2(xMajor ? vec2(major.y, across.y) : vec2(across.y, major.y)) / kResolveTile;
+  uint tilesAcross = (s.target.x + kResolveTile - 1u) / kResolveTile;
+  for (uint ty = lo.y; ty <= hi.y; ++ty)
+    for (uint tx = lo.x; tx <= hi.x; ++tx) {
+      uint tile = ty * tilesAcross + tx;
+      if (marks[tile] == 0u) marks[tile] = 1u;
+    }
 }
 
 void main() {
@@ -71,6 +96,7 @@ void main() {
   }
   uint add = (uint(color.r * kSplatScale + 0.5) << 16) | uint(color.g * kSplatScale + 0.5);
   if (add == 0u) return;
+  mark(xMajor, first, n, minor, slope);
   for (uint k = 0u; k < n; ++k, minor += slope) {
     uint major = uint(first) + k;
     uint across = uint(int(floor(minor)));  // negative wraps to huge: one unsigned test

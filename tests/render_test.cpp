@@ -14,6 +14,7 @@
 #include "host/frame_renderer.h"
 #include "host/offscreen.h"
 #include "lava/lava.h"
+#include "shared.h"
 #include "vulkan_test.h"
 
 namespace lava {
@@ -81,6 +82,14 @@ class RenderTest : public test::VulkanTest {
     return Particle{x.x, x.y, x.z, age, v.x, v.y, v.z, 1.0f};
   }
 
+  // The world point drawn at pixel `p` (as project() counts pixels), at kSkyPoint's depth.
+  glm::vec3 unproject(glm::vec2 p) const;
+  // A particle whose line runs from pixel `a` to pixel `b` (render()'s line scale).
+  Particle lineBetween(glm::vec2 a, glm::vec2 b) const {
+    const glm::vec3 x = unproject(a);
+    return particle(x, (unproject(b) - x) / 0.3f, 0.0f);
+  }
+
   // The brightest pixels of a slow (0.4 m/s) and a fast (12 m/s) line on the sky.
   std::pair<std::array<int, 3>, std::array<int, 3>> slowAndFast(LineMode mode);
   // The default scene after 3 s, drawn with `mode`.
@@ -91,6 +100,15 @@ class RenderTest : public test::VulkanTest {
 };
 
 const glm::vec3 kSkyPoint{0.0f, 2.6f, 0.0f};  // above the horizon: only the clear color behind
+
+glm::vec3 RenderTest::unproject(glm::vec2 p) const {
+  const glm::mat4 viewProj =
+      glm::make_mat4(camera_.viewProj(float(kSize.width) / float(kSize.height)).m);
+  const glm::vec4 sky = viewProj * glm::vec4(kSkyPoint, 1.0f);
+  const glm::vec2 ndc = p / glm::vec2(float(kSize.width), float(kSize.height)) * 2.0f - 1.0f;
+  const glm::vec4 world = glm::inverse(viewProj) * glm::vec4(ndc * sky.w, sky.z, sky.w);
+  return glm::vec3(world) / world.w;
+}
 
 std::pair<std::array<int, 3>, std::array<int, 3>> RenderTest::slowAndFast(LineMode mode) {
   const glm::vec3 slow{0.4f, 0.0f, 0.0f}, fast{12.0f, 0.0f, 0.0f};
@@ -193,6 +211,41 @@ TEST_F(RenderTest, SplatAndPipelineLightTheSamePixels) {
   EXPECT_GT(double(litBoth) / double(litSplat), 0.85);
 }
 
+// The splat resolves only the tiles of kResolveTile^2 pixels it marked: a line that starts
+// in one tile and ends in others is drawn in each of them. Each line alone (no other line
+// marks the tiles it reaches), across a tile's side leftwards, across one upwards, and
+// across a corner; every tile the graphics pipeline lights must be lit by the splat too.
+TEST_F(RenderTest, SplatDrawsLinesAcrossResolveTiles) {
+  const float t = float(gpu::kResolveTile);
+  const std::array<std::pair<glm::vec2, glm::vec2>, 3> lines{{
+      {{2 * t + 9.5f, 1.5f * t + 0.3f}, {2 * t - 12.5f, 1.5f * t + 2.7f}},
+      {{1.5f * t + 0.4f, 2 * t + 10.5f}, {1.5f * t - 2.6f, 2 * t - 11.5f}},
+      {{2 * t - 7.3f, 2 * t - 6.6f}, {2 * t + 9.2f, 2 * t + 8.1f}},
+  }};
+  const uint32_t across = (kSize.width + gpu::kResolveTile - 1) / gpu::kResolveTile;
+  const auto litTiles = [&](const std::vector<uint8_t>& image) {
+    std::vector<int> lit(size_t(across) *
+                         ((kSize.height + gpu::kResolveTile - 1) / gpu::kResolveTile));
+    for (uint32_t y = 0; y < kSize.height; ++y)
+      for (uint32_t x = 0; x < kSize.width; ++x)
+        if (image[(size_t(y) * kSize.width + x) * 4] > 100)
+          ++lit[(y / gpu::kResolveTile) * across + x / gpu::kResolveTile];
+    return lit;
+  };
+  for (const auto& [a, b] : lines) {
+    const std::vector<int> pipeline = litTiles(render({lineBetween(a, b)}, LineMode::Lines));
+    const std::vector<int> splat = litTiles(render({lineBetween(a, b)}, LineMode::Splat));
+    size_t reached = 0;
+    for (size_t tile = 0; tile < pipeline.size(); ++tile) {
+      if (pipeline[tile] < 3) continue;
+      ++reached;
+      EXPECT_GT(splat[tile], 0) << "tile " << tile << " of the line from (" << a.x << ", " << a.y
+                                << ") to (" << b.x << ", " << b.y << ")";
+    }
+    EXPECT_GE(reached, 2u) << "the line from (" << a.x << ", " << a.y << ") crosses no tile";
+  }
+}
+
 TEST_F(RenderTest, CachedGroundDrawsTheSameImage) {
   // The second frame of an unchanged view copies the ground from the renderer's cache; it
   // must look exactly like drawing it. A new view draws again, then caches again.
@@ -279,8 +332,10 @@ TEST_F(RenderTest, SplatSaturatesInsteadOfBleedingGreenIntoRed) {
       const OffscreenTarget target(device(), kSize);
       images[splat] = host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
     }
-    const auto lines = brightestNear(images[0], project(kSkyPoint + 0.5f * 0.3f * glm::vec3(0.8f, 0, 0)));
-    const auto splat = brightestNear(images[1], project(kSkyPoint + 0.5f * 0.3f * glm::vec3(0.8f, 0, 0)));
+    const auto lines =
+        brightestNear(images[0], project(kSkyPoint + 0.5f * 0.3f * glm::vec3(0.8f, 0, 0)));
+    const auto splat =
+        brightestNear(images[1], project(kSkyPoint + 0.5f * 0.3f * glm::vec3(0.8f, 0, 0)));
     // (8-bit blending of 5,000 lines stalls a few steps short of 255 where each adds less
     // than half a step; the splat's one tone map of the sum does not.)
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(splat[c], lines[c], 8) << "channel " << c;

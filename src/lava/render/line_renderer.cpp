@@ -1,6 +1,7 @@
 // LineRenderer: each alive particle's line, by the graphics pipeline (lines.vert pulls both
 // ends from the particle buffer as a LINE_LIST) or by the splat (splat.comp adds every line
-// into fixed-point planes the size of the target; resolve.frag puts them over the scene);
+// into fixed-point planes the size of the target and marks the tiles it added to;
+// resolve.vert/.frag put the marked tiles over the scene);
 // in the lava look, then the glow (glow.comp over cells of the screen, glow.vert/.frag over
 // the lit cells only).
 //
@@ -57,7 +58,9 @@ struct LineRenderer::Impl {
   detail::Image noDepth;  // 1x1, bound when the splat is given no scene depth
   VkExtent2D extent{0, 0};
   glm::uvec2 grid{0, 0};             // glow cells across and down
+  glm::uvec2 tiles{0, 0};            // resolve tiles across and down
   std::vector<Buffer> accumulation;  // per frame slot: the splat's sums
+  std::vector<Buffer> marks;         // per frame slot: the resolve tiles lines were added to
   std::vector<GlowSlot> glow;
 
   Impl(detail::DeviceContext& context, const RenderFormats& f, uint32_t frames)
@@ -99,17 +102,17 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_
   m.splatSet = detail::createPushLayout(
       c,
       {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-       VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
+       VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
       VK_SHADER_STAGE_COMPUTE_BIT, m.nearest);
   m.splatLayout = detail::createPipelineLayout(c, m.splatSet, VK_SHADER_STAGE_COMPUTE_BIT,
                                                sizeof(gpu::SplatParams));
   m.splatPipeline = detail::createComputePipeline(c, m.splatLayout,
                                                   LAVA_SPIRV(spirv::kSplatCompSpv),
                                                   {gpu::kWorkgroupSize});
-  m.resolveSet = detail::createPushLayout(c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-                                          VK_SHADER_STAGE_FRAGMENT_BIT);
-  m.resolveLayout = detail::createPipelineLayout(c, m.resolveSet, VK_SHADER_STAGE_FRAGMENT_BIT,
-                                                 sizeof(gpu::SplatParams));
+  m.resolveSet = detail::createPushLayout(
+      c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, drawStages);
+  m.resolveLayout =
+      detail::createPipelineLayout(c, m.resolveSet, drawStages, sizeof(gpu::SplatParams));
   detail::GraphicsPipelineDesc resolve{LAVA_SPIRV(spirv::kResolveVertSpv),
                                        LAVA_SPIRV(spirv::kResolveFragSpv), formats.color,
                                        formats.depth};
@@ -196,15 +199,20 @@ void LineRenderer::setExtent(VkExtent2D extent) {
   if (extent.width == 0 || extent.height == 0)
     throw InvalidArgument("extent", "expected a non-empty size");
   m.accumulation.clear();
+  m.marks.clear();
   m.glow.clear();
   m.grid = {(extent.width + gpu::kGlowCell - 1) / gpu::kGlowCell,
             (extent.height + gpu::kGlowCell - 1) / gpu::kGlowCell};
   const VkDeviceSize cells = VkDeviceSize{m.grid.x} * m.grid.y;
+  m.tiles = {(extent.width + gpu::kResolveTile - 1) / gpu::kResolveTile,
+             (extent.height + gpu::kResolveTile - 1) / gpu::kResolveTile};
   const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   for (uint32_t f = 0; f < m.framesInFlight; ++f) {
     m.accumulation.emplace_back(
         m.c, VkDeviceSize{extent.width} * extent.height * sizeof(uint32_t),
         storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, detail::MemoryUse::Device);
+    m.marks.emplace_back(m.c, VkDeviceSize{m.tiles.x} * m.tiles.y * sizeof(uint32_t),
+                         storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, detail::MemoryUse::Device);
     GlowSlot g;
     g.sums = Buffer(m.c, 2 * cells * sizeof(uint32_t),
                     storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
@@ -265,7 +273,7 @@ void checkFrame(uint32_t frame, uint32_t framesInFlight) {
 void LineRenderer::Impl::recordSplat(VkCommandBuffer commands, uint32_t frame,
                                      const GpuSimulation& simulation, const View& view,
                                      VkImageView depth) const {
-  const Buffer& sums = accumulation[frame];  // recordPrepare cleared them
+  const Buffer& sums = accumulation[frame];  // recordPrepare cleared them and the marks
   c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, splatPipeline);
   gpu::SplatParams params = splatParams(simulation, view, style, settings);
   params.target.w = depth ? 1u : 0u;
@@ -276,6 +284,7 @@ void LineRenderer::Impl::recordSplat(VkCommandBuffer commands, uint32_t frame,
         .buffer(gpu::kSplatSumsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sums.get())
         .image(gpu::kSplatDepthBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
                depth ? depth : noDepth.view.get(), VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL)
+        .buffer(gpu::kSplatMarksBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, marks[frame].get())
         .push(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, splatLayout);
     c.vk.CmdPushConstants(commands, splatLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
                           &params);
@@ -353,9 +362,13 @@ void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
                         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
                             VK_ACCESS_TRANSFER_WRITE_BIT);
   if (!splat && !glow) return;
-  if (splat) m.c.vk.CmdFillBuffer(commands, m.accumulation[frame].get(), 0, VK_WHOLE_SIZE, 0);
+  if (splat) {
+    m.c.vk.CmdFillBuffer(commands, m.accumulation[frame].get(), 0, VK_WHOLE_SIZE, 0);
+    m.c.vk.CmdFillBuffer(commands, m.marks[frame].get(), 0, VK_WHOLE_SIZE, 0);
+  }
   if (glow) m.c.vk.CmdFillBuffer(commands, m.glow[frame].sums.get(), 0, VK_WHOLE_SIZE, 0);
-  // RAW/WAW: splat.comp and glow.comp add atomically into the cleared sums.
+  // RAW/WAW: splat.comp and glow.comp add atomically into the cleared sums (splat.comp
+  // marks tiles too).
   detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT,
                         VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
@@ -370,8 +383,8 @@ void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
                           VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
     m.recordGlowLight(commands, frame, simulation, params);
   }
-  // RAW: resolve.frag reads the splat's sums; the glow's draw reads the list (its arguments
-  // too) and the light.
+  // RAW: resolve.vert reads the marks, resolve.frag the splat's sums; the glow's draw reads
+  // the list (its arguments too) and the light.
   detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                         VK_ACCESS_SHADER_WRITE_BIT,
                         VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
@@ -392,10 +405,13 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
     detail::PushDescriptors()
         .buffer(gpu::kResolveSumsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                 m.accumulation[frame].get())
+        .buffer(gpu::kResolveMarksBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                m.marks[frame].get())
         .push(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.resolveLayout);
-    m.c.vk.CmdPushConstants(commands, m.resolveLayout, VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+    m.c.vk.CmdPushConstants(commands, m.resolveLayout,
+                            VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                             sizeof(params), &params);
-    m.c.vk.CmdDraw(commands, 3, 1, 0, 0);
+    m.c.vk.CmdDraw(commands, 6 * m.tiles.x * m.tiles.y, 1, 0, 0);
   } else {
     gpu::DrawParams params{};
     params.viewProj = glm::make_mat4(view.viewProj.m);
