@@ -16,7 +16,7 @@ layout(location = 0) out vec4 outColor;
 
 void main() {
   uvec2 p = uvec2(gl_FragCoord.xy);
-  uint at = p.y * s.target.x + p.x;
+  uint at = splatIndex(p.x, p.y, s.target.x);
   uint sum = accumulation[at];
   if (sum == 0u) discard;
   float r = float(sum >> 16) / kSplatScale;

@@ -103,7 +103,7 @@ void main() {
     if (across < minorSize && major < uint(majorSize)) {
       uvec2 p = xMajor ? uvec2(major, across) : uvec2(across, major);
 
-      uint at = p.y * s.target.x + p.x;
+      uint at = splatIndex(p.x, p.y, s.target.x);
       // A pixel full beyond any tone map is left as it is (what was added taken back): red
       // stays below 2^16 and green, never more than red in either look, below red.
       if ((atomicAdd(accumulation[at], add) >> 16) >= kSplatFull) atomicAdd(accumulation[at], -add);

@@ -49,5 +49,22 @@ TEST(Random, StreamIsRoughlyUniformAndDistinct) {
   for (int b : buckets) EXPECT_NEAR(b, n / 10, n / 100);
 }
 
+// The splat's sums in 4 x 4 blocks: every pixel of a target its own index, within the
+// target rounded up to whole blocks, and a block's 16 pixels in one 64-byte line.
+TEST(SplatLayout, EveryPixelHasItsOwnIndexWithinWholeBlocks) {
+  for (const auto& [width, height] : {std::pair{1u, 1u}, {5u, 3u}, {8u, 8u}, {1281u, 7u}}) {
+    const uint blocks = ((width + 3u) / 4u) * ((height + 3u) / 4u);
+    std::set<uint> seen;
+    for (uint y = 0; y < height; ++y)
+      for (uint x = 0; x < width; ++x) {
+        const uint at = splatIndex(x, y, width);
+        EXPECT_LT(at, blocks * 16u) << x << ", " << y << " of " << width << "x" << height;
+        seen.insert(at);
+        EXPECT_EQ(at / 16u, splatIndex(x & ~3u, y & ~3u, width) / 16u);
+      }
+    EXPECT_EQ(seen.size(), size_t{width} * height);
+  }
+}
+
 }  // namespace
 }  // namespace lava::gpu

@@ -209,7 +209,10 @@ void LineRenderer::setExtent(VkExtent2D extent) {
   const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   for (uint32_t f = 0; f < m.framesInFlight; ++f) {
     m.accumulation.emplace_back(
-        m.c, VkDeviceSize{extent.width} * extent.height * sizeof(uint32_t),
+        m.c,
+        VkDeviceSize{detail::groupCount(extent.width, gpu::kSplatBlock)} *
+            detail::groupCount(extent.height, gpu::kSplatBlock) * gpu::kSplatBlock *
+            gpu::kSplatBlock * sizeof(uint32_t),
         storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, detail::MemoryUse::Device);
     m.marks.emplace_back(m.c, VkDeviceSize{m.tiles.x} * m.tiles.y * sizeof(uint32_t),
                          storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, detail::MemoryUse::Device);
