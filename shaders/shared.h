@@ -203,18 +203,21 @@ struct SplatParams {
 // 16 bits, green in the low 16, each at most 1.7 a line (lava: red 1.64, green 1.0). A
 // pixel's red stops at kSplatFull (energy 390, far past where either look saturates: the
 // 64 adds that may race past it still fit), and green, never more than red, below it.
-// The sums are laid out in blocks of 4 x 4 pixels, one 64-byte cache line each (splatIndex):
-// a line's next pixels often share its block, and the cores of a CPU device, which add into
-// the same sums, pass fewer cache lines between them (on a 2-core host, 14 of 16 alternating
-// rounds faster, about 4%). The buffer covers the target rounded up to whole blocks.
+const float kSplatScale = 128.0f;
+const uint kSplatFull = 50000u;
+// The sums are laid out in blocks of 4 x 4 pixels, one 64-byte cache line each, a column
+// after another (splatIndex): a line's next pixels often share its block, and the cores of a
+// CPU device, which add into the same sums, pass fewer cache lines between them (on a 2-core
+// host, 14 of 16 alternating rounds faster, about 4%). Two pixels one above the other, the
+// upper on an even row, are one 8-byte word: where the device has 64-bit atomics, one add
+// covers both (splat.comp, LAVA_SPLAT_PAIRS). The buffer covers the target rounded up to
+// whole blocks.
 const uint kSplatBlock = 4u;
 LAVA_FN uint splatIndex(uint x, uint y, uint width) {
   uint blocksAcross = (width + kSplatBlock - 1u) / kSplatBlock;
   return ((y / kSplatBlock) * blocksAcross + x / kSplatBlock) * (kSplatBlock * kSplatBlock) +
-         (y % kSplatBlock) * kSplatBlock + x % kSplatBlock;
+         (x % kSplatBlock) * kSplatBlock + y % kSplatBlock;
 }
-const float kSplatScale = 128.0f;
-const uint kSplatFull = 50000u;
 const uint kSplatDepthBinding = 2u;  // the scene's depth, sampled (when target.w = 1)
 // The resolve draws only the tiles of kResolveTile^2 pixels that lines were added into:
 // splat.comp marks them (one uint per tile, row by row, non-zero when marked) and

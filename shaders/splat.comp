@@ -1,10 +1,16 @@
 #version 460
 // The fast line renderer: each alive particle walks its line x -> x + s v in screen space
 // and adds its colour into a fixed-point buffer the size of the target with one atomic per
-// pixel (red in the high 16 bits, green in the low 16). Software rasterisers draw lines one primitive at a time; this is one invocation
-// each. With a scene depth bound, points of the line behind the scene are left out, as the
-// graphics pipeline's depth test does.
+// pixel (red in the high 16 bits, green in the low 16); built with LAVA_SPLAT_PAIRS, one
+// 64-bit atomic per pair of pixels one above the other where the line has both (most lines
+// are steep on screen), the same sums. Software rasterisers draw lines one primitive at a
+// time; this is one invocation each. With a scene depth bound, points of the line behind
+// the scene are left out, as the graphics pipeline's depth test does.
 #extension GL_GOOGLE_include_directive : require
+#if LAVA_SPLAT_PAIRS
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_shader_atomic_int64 : require
+#endif
 #include "shared.h"
 #include "lava_color.glsl"
 
@@ -13,9 +19,15 @@ layout(local_size_x_id = 0) in;
 // The particles as RGBA32F texels (posAge, velMass): llvmpipe gathers texel fetches
 // without the per-lane bounds-checked loop it runs for a storage-buffer load.
 layout(binding = kSplatParticleBinding) uniform samplerBuffer particles;
+#if LAVA_SPLAT_PAIRS
+layout(std430, binding = kSplatSumsBinding) restrict buffer Accumulation {
+  uint64_t accumulation[];  // two pixels a word (splatIndex / 2), the even one low
+};
+#else
 layout(std430, binding = kSplatSumsBinding) restrict buffer Accumulation {
   uint accumulation[];
 };
+#endif
 layout(binding = kSplatDepthBinding) uniform sampler2D sceneDepth;
 layout(std430, binding = kSplatMarksBinding) restrict buffer Marks {
   uint marks[];
@@ -55,6 +67,22 @@ void mark(bool xMajor, int first, uint n, float minor, float slope) {
       if (marks[tile] == 0u) marks[tile] = 1u;
     }
 }
+
+#if LAVA_SPLAT_PAIRS
+// Adds `add` to the pixel at `at` and, when `both`, to the one after it (the pixel below),
+// in one atomic; takes back what a full pixel received (see below).
+void addPixels(uint at, uint add, bool both) {
+  bool high = (at & 1u) == 1u;
+  uint64_t low = uint64_t(high ? 0u : add), upper = uint64_t(high || both ? add : 0u);
+  uint64_t value = low | (upper << 32u);
+  uint64_t before = atomicAdd(accumulation[at >> 1u], value);
+  uint64_t back = 0ul;
+  if (low != 0ul && (uint(before) >> 16) >= kSplatFull) back = low;
+  if (upper != 0ul && (uint(before >> 32u) >> 16) >= kSplatFull) back |= upper << 32u;
+  // Each half still holds at least what this add put there: no borrow between them.
+  if (back != 0ul) atomicAdd(accumulation[at >> 1u], -back);
+}
+#endif
 
 void main() {
   uint i = gl_GlobalInvocationID.x;
@@ -97,16 +125,32 @@ void main() {
   uint add = (uint(color.r * kSplatScale + 0.5) << 16) | uint(color.g * kSplatScale + 0.5);
   if (add == 0u) return;
   mark(xMajor, first, n, minor, slope);
+#if LAVA_SPLAT_PAIRS
+  for (uint k = 0u; k < n;) {
+    uint major = uint(first) + k;
+    uint across = uint(int(floor(minor)));  // negative wraps to huge: one unsigned test
+    float next = minor + slope;
+    // A steep line's pixel on an even row and its next one below, in the same column: one
+    // word. (The pair lies on the target when its first pixel does: first + n is on it.)
+    bool both = !xMajor && (major & 1u) == 0u && k + 1u < n && uint(int(floor(next))) == across;
+    if (across < minorSize && major < uint(majorSize)) {
+      uvec2 p = xMajor ? uvec2(major, across) : uvec2(across, major);
+      addPixels(splatIndex(p.x, p.y, s.target.x), add, both);
+    }
+    minor = both ? next + slope : next;
+    k += both ? 2u : 1u;
+  }
+#else
   for (uint k = 0u; k < n; ++k, minor += slope) {
     uint major = uint(first) + k;
     uint across = uint(int(floor(minor)));  // negative wraps to huge: one unsigned test
     if (across < minorSize && major < uint(majorSize)) {
       uvec2 p = xMajor ? uvec2(major, across) : uvec2(across, major);
-
       uint at = splatIndex(p.x, p.y, s.target.x);
       // A pixel full beyond any tone map is left as it is (what was added taken back): red
       // stays below 2^16 and green, never more than red in either look, below red.
       if ((atomicAdd(accumulation[at], add) >> 16) >= kSplatFull) atomicAdd(accumulation[at], -add);
     }
   }
+#endif
 }

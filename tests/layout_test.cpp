@@ -50,7 +50,8 @@ TEST(Random, StreamIsRoughlyUniformAndDistinct) {
 }
 
 // The splat's sums in 4 x 4 blocks: every pixel of a target its own index, within the
-// target rounded up to whole blocks, and a block's 16 pixels in one 64-byte line.
+// target rounded up to whole blocks, a block's 16 pixels in one 64-byte line, and two
+// pixels one above the other (the upper on an even row) in one 8-byte word.
 TEST(SplatLayout, EveryPixelHasItsOwnIndexWithinWholeBlocks) {
   for (const auto& [width, height] : {std::pair{1u, 1u}, {5u, 3u}, {8u, 8u}, {1281u, 7u}}) {
     const uint blocks = ((width + 3u) / 4u) * ((height + 3u) / 4u);
@@ -61,6 +62,11 @@ TEST(SplatLayout, EveryPixelHasItsOwnIndexWithinWholeBlocks) {
         EXPECT_LT(at, blocks * 16u) << x << ", " << y << " of " << width << "x" << height;
         seen.insert(at);
         EXPECT_EQ(at / 16u, splatIndex(x & ~3u, y & ~3u, width) / 16u);
+        // A pixel on an even row and the one below it: one 8-byte word, the upper low.
+        if (y % 2u == 0u) {
+          EXPECT_EQ(at % 2u, 0u);
+          EXPECT_EQ(splatIndex(x, y + 1u, width), at + 1u);
+        }
       }
     EXPECT_EQ(seen.size(), size_t{width} * height);
   }

@@ -311,6 +311,50 @@ TEST_F(RenderTest, CachedBackdropIsRedrawnWhenTheCraterOrTheSizeChanges) {
   EXPECT_TRUE(renderer.backdropReused());
 }
 
+// With 64-bit buffer atomics the splat adds a steep line's pixels two at a time (one above
+// the other in one word of the sums): the same sums, so the same images as one pixel per
+// atomic, in both looks, for the default scene and for steep lines piled past the sums' cap
+// (where each half of a word is taken back on its own).
+TEST_F(RenderTest, SplatPairsOfPixelsDrawTheSameImagesAsSinglePixels) {
+  ASSERT_TRUE(device().handles().int64Atomics)
+      << "lavapipe offers 64-bit buffer atomics: the pairs must be what these tests run";
+  DeviceOptions options = test::validatedOptions();
+  options.int64Atomics = false;
+  Device single(options);
+  ASSERT_FALSE(single.handles().int64Atomics);
+  Scene pile;
+  pile.emitters[0].particles = 5000;
+  pile.lineScale = 0.3f;
+  State piled = initialState(pile);
+  for (size_t i = 0; i < piled.particles.size(); ++i)  // steep, on even and odd rows
+    piled.particles[i] = particle(kSkyPoint + glm::vec3(0.0f, 0.004f * float(i % 3), 0.0f),
+                                  {0.1f, 3.0f, 0.0f}, 0.0f);
+  const auto draw = [&](Device& on, LookStyle style, bool piledUp) {
+    const Scene scene = piledUp ? pile : Scene{};
+    GpuSimulation simulation(on, scene);
+    if (piledUp)
+      simulation.setState(piled);
+    else
+      simulation.advance(3000);
+    FrameRenderer renderer(on, OffscreenTarget::kColorFormat, 1, style);
+    renderer.setLineMode(LineMode::Splat);
+    const OffscreenTarget target(on, kSize);
+    return host::renderOffscreen(host::Submitter(on), renderer, simulation, target, camera_);
+  };
+  for (LookStyle style : {LookStyle::Plain, LookStyle::Lava})
+    for (bool piledUp : {false, true}) {
+      SCOPED_TRACE(std::string(style == LookStyle::Lava ? "lava" : "plain") +
+                   (piledUp ? ", piled up" : ", default scene"));
+      const auto pairs = draw(device(), style, piledUp);
+      EXPECT_EQ(pairs, draw(single, style, piledUp));
+      size_t lit = 0;
+      for (size_t i = 0; i < pairs.size(); i += 4) lit += pairs[i] > 100;
+      EXPECT_GT(lit, 20u);
+    }
+  for (const std::string& message : single.takeValidationMessages())
+    ADD_FAILURE() << "validation: " << message;
+}
+
 TEST_F(RenderTest, SplatSaturatesInsteadOfBleedingGreenIntoRed) {
   // 5,000 identical lines on the same pixels: far past what one pixel of the fixed-point
   // sums holds (red stops at kSplatFull). The splat must show what the graphics pipeline

@@ -56,6 +56,7 @@ struct Host {
   VkDevice device = VK_NULL_HANDLE;
   uint32_t family = 0;
   VkQueue queue = VK_NULL_HANDLE;
+  bool int64Atomics = false;  // enabled: Lava's splat adds two pixels per atomic
 
   Host() {
     const bool validation = hasLayer("VK_LAYER_KHRONOS_validation");
@@ -113,13 +114,27 @@ struct Host {
     VkPhysicalDeviceDynamicRenderingFeatures dynamic{
         VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DYNAMIC_RENDERING_FEATURES};
     dynamic.dynamicRendering = needs.dynamicRendering;
+    // Optional, where offered: 64-bit buffer atomics (then told to Lava, below).
+    VkPhysicalDeviceShaderAtomicInt64Features atomics{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES};
+    VkPhysicalDeviceFeatures2 offered{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    offered.pNext = &atomics;
+    vkGetPhysicalDeviceFeatures2(physical, &offered);
+    int64Atomics =
+        needs.int64Atomics && offered.features.shaderInt64 && atomics.shaderBufferInt64Atomics;
+    VkPhysicalDeviceFeatures2 enabled{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    enabled.features.shaderInt64 = int64Atomics;
+    atomics.pNext = nullptr;
+    atomics.shaderBufferInt64Atomics = int64Atomics;
+    enabled.pNext = &dynamic;
+    dynamic.pNext = int64Atomics ? &atomics : nullptr;
     float priority = 1.0f;
     VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
     queueInfo.queueFamilyIndex = family;
     queueInfo.queueCount = 1;
     queueInfo.pQueuePriorities = &priority;
     VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-    deviceInfo.pNext = &dynamic;
+    deviceInfo.pNext = &enabled;
     deviceInfo.queueCreateInfoCount = 1;
     deviceInfo.pQueueCreateInfos = &queueInfo;
     deviceInfo.enabledExtensionCount = static_cast<uint32_t>(needs.extensions.size());
@@ -210,6 +225,7 @@ int run() {
   handles.device = host.device;
   handles.queueFamily = host.family;
   handles.queue = host.queue;
+  handles.int64Atomics = host.int64Atomics;
   lava::Device device(handles);
 
   lava::Scene scene;  // the lava crater: 5,000 slots, 1,000 births per second

@@ -32,6 +32,10 @@ struct DeviceHandles {
   const VkAllocationCallbacks* allocator = nullptr;
   // Optional: used for every pipeline Lava creates.
   VkPipelineCache pipelineCache = VK_NULL_HANDLE;
+  // Optional: the device was created with shaderInt64 and shaderBufferInt64Atomics (see
+  // DeviceRequirements): the splat then adds two pixels per atomic. For a device Lava
+  // created, whether it enabled them.
+  bool int64Atomics = false;
 };
 
 // What a device must offer Lava: create it with these (vk-bootstrap or by hand).
@@ -40,6 +44,9 @@ struct DeviceRequirements {
   std::vector<const char*> extensions;  // device extensions to enable
   bool dynamicRendering;                // VkPhysicalDeviceVulkan13Features::dynamicRendering
                                         // (or VkPhysicalDeviceDynamicRenderingFeatures)
+  // Optional, where the device offers them: VkPhysicalDeviceFeatures::shaderInt64 and
+  // shaderBufferInt64Atomics (Vulkan 1.2), then DeviceHandles::int64Atomics = true.
+  bool int64Atomics;
 };
 // For a physical device of Vulkan version `deviceApiVersion` (1.2 needs the dynamic
 // rendering extension, 1.3 has it in core).
@@ -53,6 +60,7 @@ struct DeviceOptions {
                                                 // validation; messages via takeValidationMessages()
   std::vector<const char*> instanceExtensions;  // required, e.g. a window system's
   std::vector<const char*> deviceExtensions;    // enabled where the device offers them
+  bool int64Atomics = true;                     // 64-bit buffer atomics where offered
   std::string applicationName = "lava";
 };
 

@@ -53,6 +53,9 @@ class InfoCommand final : public Command {
     std::printf("selected device %u: %s\n", device.index(), device.properties().deviceName);
     std::printf("  driver                          %s\n", device.driver().c_str());
     std::printf("  float controls                  %s\n", device.floatControls().c_str());
+    std::printf("  64-bit buffer atomics           %s\n",
+                device.handles().int64Atomics ? "yes (the splat adds two pixels per atomic)"
+                                              : "no (the splat adds one pixel per atomic)");
     std::printf("  maxStorageBufferRange           %u bytes\n", l.maxStorageBufferRange);
     std::printf("  maxTexelBufferElements          %u\n", l.maxTexelBufferElements);
     std::printf("  maxComputeWorkGroupCount[0]     %u\n", l.maxComputeWorkGroupCount[0]);

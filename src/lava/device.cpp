@@ -165,6 +165,16 @@ std::optional<uint32_t> queueFamilyOf(const detail::Vk& vk, VkPhysicalDevice phy
   return std::nullopt;
 }
 
+// Whether `physical` offers shaderInt64 and shaderBufferInt64Atomics.
+bool offersInt64Atomics(const detail::Vk& vk, VkPhysicalDevice physical) {
+  VkPhysicalDeviceShaderAtomicInt64Features atomics{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES};
+  VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  features.pNext = &atomics;
+  vk.GetPhysicalDeviceFeatures2(physical, &features);
+  return features.features.shaderInt64 && atomics.shaderBufferInt64Atomics;
+}
+
 // Why `physical` cannot run Lava, or empty when it can.
 std::string unsuitability(const detail::Vk& vk, VkPhysicalDevice physical) {
   VkPhysicalDeviceProperties properties;
@@ -323,8 +333,19 @@ void createLogicalDevice(DeviceContext& c, const DeviceOptions& options) {
   VkPhysicalDeviceDynamicRenderingFeatures dynamic{
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DYNAMIC_RENDERING_FEATURES};
   dynamic.dynamicRendering = VK_TRUE;
+  // Optional: 64-bit buffer atomics, for the splat's pairs of pixels.
+  VkPhysicalDeviceShaderAtomicInt64Features atomics{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES};
+  VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  features.pNext = &dynamic;
+  c.handles.int64Atomics = options.int64Atomics && offersInt64Atomics(vk, physical);
+  if (c.handles.int64Atomics) {
+    atomics.shaderBufferInt64Atomics = VK_TRUE;
+    features.features.shaderInt64 = VK_TRUE;
+    dynamic.pNext = &atomics;
+  }
   VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-  info.pNext = &dynamic;
+  info.pNext = &features;
   info.queueCreateInfoCount = 1;
   info.pQueueCreateInfos = &queue;
   info.enabledExtensionCount = static_cast<uint32_t>(enabled.size());
@@ -337,7 +358,7 @@ void createLogicalDevice(DeviceContext& c, const DeviceOptions& options) {
 }  // namespace
 
 DeviceRequirements deviceRequirements(uint32_t deviceApiVersion) {
-  DeviceRequirements r{VK_API_VERSION_1_2, {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME}, true};
+  DeviceRequirements r{VK_API_VERSION_1_2, {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME}, true, true};
   if (deviceApiVersion < VK_API_VERSION_1_3)
     r.extensions.push_back(VK_KHR_DYNAMIC_RENDERING_EXTENSION_NAME);
   return r;
@@ -370,6 +391,9 @@ Device::Device(const DeviceHandles& borrowed) : context_(std::make_unique<Device
   c.vk.loadInstance(c.handles.instance);
   const std::string why = unsuitability(c.vk, c.handles.physicalDevice);
   if (!why.empty()) throw ResourceError(why + ": it cannot run Lava");
+  if (borrowed.int64Atomics && !offersInt64Atomics(c.vk, c.handles.physicalDevice))
+    throw InvalidArgument("int64Atomics",
+                          "set, but the device offers no shaderInt64 or shaderBufferInt64Atomics");
   c.vk.loadDevice(c.handles.device);
   for (const VkExtensionProperties& e : deviceExtensions(c.vk, c.handles.physicalDevice))
     c.extensions.emplace_back(e.extensionName);

@@ -106,9 +106,11 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_
       VK_SHADER_STAGE_COMPUTE_BIT, m.nearest);
   m.splatLayout = detail::createPipelineLayout(c, m.splatSet, VK_SHADER_STAGE_COMPUTE_BIT,
                                                sizeof(gpu::SplatParams));
-  m.splatPipeline = detail::createComputePipeline(c, m.splatLayout,
-                                                  LAVA_SPIRV(spirv::kSplatCompSpv),
-                                                  {gpu::kWorkgroupSize});
+  // Two pixels per atomic where the device has 64-bit buffer atomics (the same sums).
+  m.splatPipeline = detail::createComputePipeline(
+      c, m.splatLayout,
+      c.handles.int64Atomics ? LAVA_SPIRV(spirv::kSplatPairsSpv) : LAVA_SPIRV(spirv::kSplatCompSpv),
+      {gpu::kWorkgroupSize});
   m.resolveSet = detail::createPushLayout(
       c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, drawStages);
   m.resolveLayout =

@@ -15,6 +15,7 @@ namespace lava::spirv {
 #include "resolve_frag.h"
 #include "resolve_vert.h"
 #include "splat_comp.h"
+#include "splat_pairs.h"
 #include "step_comp.h"
 #include "step_kernel_only.h"
 #include "step_plain.h"
