@@ -20,7 +20,9 @@ void main() {
   }
   uint tilesAcross = (s.target.x + kResolveTile - 1u) / kResolveTile;
   // Corners (0,0) (1,0) (0,1), (0,1) (1,0) (1,1).
-  uvec2 c = uvec2(corner == 1u || corner >= 4u ? 1u : 0u, corner == 2u || corner == 3u || corner == 5u ? 1u : 0u);
-  uvec2 pixel = min((uvec2(tile % tilesAcross, tile / tilesAcross) + c) * kResolveTile, s.target.xy);
+  uvec2 c = uvec2(corner == 1u || corner >= 4u ? 1u : 0u,
+                  corner == 2u || corner == 3u || corner == 5u ? 1u : 0u);
+  uvec2 t = uvec2(tile % tilesAcross, tile / tilesAcross);
+  uvec2 pixel = min((t + c) * kResolveTile, s.target.xy);
   gl_Position = vec4(vec2(pixel) / vec2(s.target.xy) * 2.0 - 1.0, 0.0, 1.0);
 }
