@@ -115,29 +115,11 @@ OffscreenTarget::OffscreenTarget(const Device& device, VkExtent2D extent, VkForm
                          VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
                              copyTargetUsage(device, color),
                          VK_IMAGE_ASPECT_COLOR_BIT)),
-      depth_(createImage(
-          device, extent, kDepthFormat,
-          VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
-              copyTargetUsage(device, kDepthFormat),
-          VK_IMAGE_ASPECT_DEPTH_BIT)) {
-  VkDevice handle = device.handles().device;
-  VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
-  info.size = VkDeviceSize{extent.width} * extent.height * 4;
-  info.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-  VkBuffer buffer = VK_NULL_HANDLE;
-  HOST_CHECK(vkCreateBuffer(handle, &info, nullptr, &buffer));
-  readback_ = OwnedBuffer(handle, buffer);
-  VkMemoryRequirements requirements;
-  vkGetBufferMemoryRequirements(handle, buffer, &requirements);
-  // Cached memory where the device has it: the host reads every pixel.
-  const uint32_t type =
-      memoryType(device, requirements.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
-                 VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
-  readbackMemory_ = allocate(device, requirements.size, type);
-  coherent_ = coherent(device, type);
-  HOST_CHECK(vkBindBufferMemory(handle, buffer, readbackMemory_, 0));
-  HOST_CHECK(vkMapMemory(handle, readbackMemory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
-}
+      depth_(createImage(device, extent, kDepthFormat,
+                         VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                             copyTargetUsage(device, kDepthFormat),
+                         VK_IMAGE_ASPECT_DEPTH_BIT)),
+      readback_(device, VkDeviceSize{extent.width} * extent.height * 4) {}
 
 OffscreenTarget::OffscreenTarget(const Device& device, VkExtent2D extent, VkFormat color,
                                  void* host)
@@ -147,11 +129,10 @@ OffscreenTarget::OffscreenTarget(const Device& device, VkExtent2D extent, VkForm
       host_(host),
       copyable_(true),
       color_(importHostColorImage(device, extent, color, host)),
-      depth_(
-          createImage(device, extent, kDepthFormat,
-                      VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
-                          VK_IMAGE_USAGE_TRANSFER_DST_BIT,
-                      VK_IMAGE_ASPECT_DEPTH_BIT)) {}
+      depth_(createImage(device, extent, kDepthFormat,
+                         VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                             VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                         VK_IMAGE_ASPECT_DEPTH_BIT)) {}
 
 FrameTarget OffscreenTarget::target() const {
   FrameTarget t;
@@ -175,8 +156,8 @@ void OffscreenTarget::recordReadback(VkCommandBuffer commands) const {
   VkBufferImageCopy region{};
   region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
   region.imageExtent = {extent_.width, extent_.height, 1};
-  vkCmdCopyImageToBuffer(commands, color_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_, 1,
-                         &region);
+  vkCmdCopyImageToBuffer(commands, color_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                         readback_.buffer(), 1, &region);
   // RAW: the host reads what the copy wrote.
   memoryBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                 VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
@@ -184,12 +165,7 @@ void OffscreenTarget::recordReadback(VkCommandBuffer commands) const {
 
 const uint8_t* OffscreenTarget::mappedPixels() const {
   if (host_) return static_cast<const uint8_t*>(host_);
-  if (!coherent_) {
-    VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, readbackMemory_, 0,
-                              VK_WHOLE_SIZE};
-    HOST_CHECK(vkInvalidateMappedMemoryRanges(device_.handles().device, 1, &range));
-  }
-  return static_cast<const uint8_t*>(mapped_);
+  return static_cast<const uint8_t*>(readback_.read());
 }
 
 std::vector<uint8_t> OffscreenTarget::pixels() const {

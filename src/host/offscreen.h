@@ -64,10 +64,7 @@ class OffscreenTarget {
   bool copyable_;
   Image color_;
   Image depth_;
-  OwnedBuffer readback_;
-  OwnedMemory readbackMemory_;
-  void* mapped_ = nullptr;
-  bool coherent_ = true;
+  ReadbackBuffer readback_;  // empty for a target in host memory
 };
 
 }  // namespace lava::host

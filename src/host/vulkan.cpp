@@ -49,6 +49,34 @@ OwnedImageView createView(const Device& device, VkImage image, VkFormat format,
   return OwnedImageView(device.handles().device, view);
 }
 
+ReadbackBuffer::ReadbackBuffer(const Device& device, VkDeviceSize size)
+    : device_(device.handles().device) {
+  VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  info.size = size;
+  info.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  VkBuffer buffer = VK_NULL_HANDLE;
+  HOST_CHECK(vkCreateBuffer(device_, &info, nullptr, &buffer));
+  buffer_ = OwnedBuffer(device_, buffer);
+  VkMemoryRequirements requirements;
+  vkGetBufferMemoryRequirements(device_, buffer, &requirements);
+  const uint32_t type =
+      memoryType(device, requirements.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
+                 VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+  memory_ = allocate(device, requirements.size, type);
+  coherent_ = coherent(device, type);
+  HOST_CHECK(vkBindBufferMemory(device_, buffer, memory_, 0));
+  HOST_CHECK(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
+}
+
+const void* ReadbackBuffer::read() const {
+  if (!coherent_) {
+    VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, memory_, 0,
+                              VK_WHOLE_SIZE};
+    HOST_CHECK(vkInvalidateMappedMemoryRanges(device_, 1, &range));
+  }
+  return mapped_;
+}
+
 Image createImage(const Device& device, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage,
                   VkImageAspectFlags aspect) {
   VkDevice handle = device.handles().device;

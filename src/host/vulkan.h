@@ -90,6 +90,24 @@ void imageBarrier(VkCommandBuffer commands, VkImage image, VkImageAspectFlags as
 void memoryBarrier(VkCommandBuffer commands, VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
                    VkPipelineStageFlags dstStage, VkAccessFlags dstAccess);
 
+// A buffer the device copies into (TRANSFER_DST) and the host reads, mapped for its whole
+// life; in cached memory where the device has it. Empty when default-constructed.
+class ReadbackBuffer {
+ public:
+  ReadbackBuffer() = default;
+  ReadbackBuffer(const Device& device, VkDeviceSize size);
+  VkBuffer buffer() const { return buffer_; }
+  // What the device wrote, once the host has waited for it (invalidated when not coherent).
+  const void* read() const;
+
+ private:
+  VkDevice device_ = VK_NULL_HANDLE;
+  OwnedBuffer buffer_;
+  OwnedMemory memory_;
+  void* mapped_ = nullptr;
+  bool coherent_ = true;
+};
+
 // One-time command buffers on the device's queue, each waited on.
 class Submitter {
  public:

@@ -35,13 +35,9 @@ class FrameTimer {
 
  private:
   static constexpr uint32_t kStamps = 3;  // start, after the simulation, after the draw
-  const Device& device_;
   host::OwnedQueryPool queries_;
-  host::OwnedBuffer results_;
-  host::OwnedMemory memory_;
-  bool coherent_ = false;
-  const uint64_t* mapped_ = nullptr;
-  uint64_t mask_;  // the queue's valid timestamp bits
+  host::ReadbackBuffer results_;  // the stamps, kStamps per slot
+  uint64_t mask_;                 // the queue's valid timestamp bits
   double msPerTick_;
   std::vector<bool> pending_;  // per slot: a timed frame's stamps not read yet
 };

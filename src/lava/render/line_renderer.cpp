@@ -206,8 +206,8 @@ void LineRenderer::setExtent(VkExtent2D extent) {
   m.grid = {(extent.width + gpu::kGlowCell - 1) / gpu::kGlowCell,
             (extent.height + gpu::kGlowCell - 1) / gpu::kGlowCell};
   const VkDeviceSize cells = VkDeviceSize{m.grid.x} * m.grid.y;
-  m.tiles = {(extent.width + gpu::kResolveTile - 1) / gpu::kResolveTile,
-             (extent.height + gpu::kResolveTile - 1) / gpu::kResolveTile};
+  m.tiles = {detail::groupCount(extent.width, gpu::kResolveTile),
+             detail::groupCount(extent.height, gpu::kResolveTile)};
   const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   for (uint32_t f = 0; f < m.framesInFlight; ++f) {
     m.accumulation.emplace_back(
