@@ -1,6 +1,7 @@
 #version 460
-// The lava look's glow, at one cell per kGlowCell x kGlowCell pixels, in two passes
-// (specialization constant 1), over sums the renderer cleared:
+// The lava look's glow, at one cell per kGlowCell x kGlowCell pixels, in two passes (two
+// modules: glow_splat without LAVA_GLOW_LIGHT, glow_light with it), over sums the renderer
+// cleared:
 // - splat: every stride-th alive particle adds its line's energy (times the stride) into
 //   the cell of the line's middle, in fixed point (two planes of uint, red and green);
 // - light: per workgroup, a tile of kGlowTile x kGlowTile quads of the dual grid (one more
@@ -9,13 +10,13 @@
 //   the threshold, the hue kept: only what glows brightly spreads), blurred over 5 x 5 cells
 //   (separably, in shared memory) and times the strength, is the light the cell receives;
 //   the tile's quads where any of the four has visible light are appended to the list (its
-//   vertex count 6 per quad).
+//   vertex count 6 per quad). When the draw also resolves the splat's sums (target.w), the
+//   quads over the tiles splat.comp marked are listed too, lit or not.
 #extension GL_GOOGLE_include_directive : require
 #include "shared.h"
 #include "lava_color.glsl"
 
 layout(local_size_x_id = 0) in;
-layout(constant_id = 1) const uint kPass = kGlowSplat;
 
 layout(binding = kGlowParticlesBinding) uniform samplerBuffer particles;
 layout(std430, binding = kGlowSumsBinding) restrict buffer Sums {
@@ -32,6 +33,11 @@ layout(std430, binding = kGlowListBinding) restrict buffer List {
   uint quads[];  // the quads to draw
 };
 layout(binding = kGlowSumTexelsBinding) uniform usamplerBuffer sumTexels;  // the sums again
+#if LAVA_GLOW_LIGHT
+layout(std430, binding = kGlowMarksBinding) restrict readonly buffer Marks {
+  uint marks[];  // splat.comp's resolve tiles, row by row, non-zero when marked
+};
+#endif
 layout(push_constant) uniform Push {
   GlowParams g;
 };
@@ -95,6 +101,22 @@ vec2 thresholded(ivec2 c) {
   return peak > g.glow.x ? e * ((peak - g.glow.x) / peak) : vec2(0.0);
 }
 
+#if LAVA_GLOW_LIGHT
+// Whether splat.comp marked a resolve tile under quad q's pixels (glow.vert's placement:
+// from the centre of cell q - 1 to that of cell q, clipped to the target).
+bool marked(ivec2 q) {
+  ivec2 size = ivec2(g.target.xy);
+  ivec2 lo = clamp(q * int(kGlowCell) - int(kGlowCell / 2u), ivec2(0), size);
+  ivec2 hi = clamp(q * int(kGlowCell) + int(kGlowCell / 2u), ivec2(0), size);  // exclusive
+  if (any(greaterThanEqual(lo, hi))) return false;
+  uvec2 t0 = uvec2(lo) / kResolveTile, t1 = uvec2(hi - 1) / kResolveTile;
+  uint tilesAcross = (g.target.x + kResolveTile - 1u) / kResolveTile;
+  bool hit = false;
+  for (uint ty = t0.y; ty <= t1.y; ++ty)
+    for (uint tx = t0.x; tx <= t1.x; ++tx) hit = hit || marks[ty * tilesAcross + tx] != 0u;
+  return hit;
+}
+
 void lightTile() {
   uint lane = gl_LocalInvocationIndex;
   ivec2 first = ivec2(gl_WorkGroupID.xy) * kTile - 1;  // the block's first cell
@@ -106,50 +128,56 @@ void lightTile() {
     if (any(greaterThan(e, vec2(0.0)))) atomicOr(anyEnergy, 1u);
   }
   barrier();
-  if (anyEnergy == 0u) {  // nothing reaches the tile: no light, nothing to list
+  bool dark = anyEnergy == 0u;  // the same in the whole workgroup
+  bool resolves = g.target.w != 0u;
+  if (dark) {  // nothing reaches the tile: no light; only marked quads to list, if any
     for (uint k = lane; k < kGlowTile * kGlowTile; k += kWorkgroupSize) {
       ivec2 c = first + 1 + ivec2(int(k) % kTile, int(k) / kTile);
       if (onGrid(c)) light[c.y * int(g.grid.x) + c.x] = vec2(0.0);
     }
-    return;
+    if (!resolves) return;
+  } else {
+    for (uint k = lane; k < uint(kSpan * kCells); k += kWorkgroupSize) {
+      int x = int(k) % kCells, y = int(k) / kCells;
+      vec2 row = vec2(0.0);
+      for (int dx = -kReach; dx <= kReach; ++dx)
+        row += energy[y * kSpan + x + kReach + dx] * kWeights[abs(dx)];
+      rows[k] = row;
+    }
+    barrier();
+    for (uint k = lane; k < uint(kCells * kCells); k += kWorkgroupSize) {
+      ivec2 b = ivec2(int(k) % kCells, int(k) / kCells);
+      vec2 sum = vec2(0.0);
+      for (int dy = -kReach; dy <= kReach; ++dy)
+        sum += rows[(b.y + kReach + dy) * kCells + b.x] * kWeights[abs(dy)];
+      vec2 l = sum * g.glow.y;
+      visible[k] = l.r * g.glow.z;
+      ivec2 c = first + b;
+      if (b.x > 0 && b.y > 0 && onGrid(c)) light[c.y * int(g.grid.x) + c.x] = l;  // the tile's own
+    }
+    barrier();
   }
-  for (uint k = lane; k < uint(kSpan * kCells); k += kWorkgroupSize) {
-    int x = int(k) % kCells, y = int(k) / kCells;
-    vec2 row = vec2(0.0);
-    for (int dx = -kReach; dx <= kReach; ++dx)
-      row += energy[y * kSpan + x + kReach + dx] * kWeights[abs(dx)];
-    rows[k] = row;
-  }
-  barrier();
-  for (uint k = lane; k < uint(kCells * kCells); k += kWorkgroupSize) {
-    ivec2 b = ivec2(int(k) % kCells, int(k) / kCells);
-    vec2 sum = vec2(0.0);
-    for (int dy = -kReach; dy <= kReach; ++dy)
-      sum += rows[(b.y + kReach + dy) * kCells + b.x] * kWeights[abs(dy)];
-    vec2 l = sum * g.glow.y;
-    visible[k] = l.r * g.glow.z;
-    ivec2 c = first + b;
-    if (b.x > 0 && b.y > 0 && onGrid(c)) light[c.y * int(g.grid.x) + c.x] = l;  // the tile's own
-  }
-  barrier();
   for (uint k = lane; k < kGlowTile * kGlowTile; k += kWorkgroupSize) {
     ivec2 q = ivec2(gl_WorkGroupID.xy) * kTile + ivec2(int(k) % kTile, int(k) / kTile);
     if (any(greaterThan(q, ivec2(g.grid.xy)))) continue;
     bool lit = false;
-    for (int j = 0; j < 4; ++j) {  // the four cells whose centres are the quad's corners
+    for (int j = 0; j < 4 && !dark; ++j) {  // the four cells whose centres are the quad's corners
       ivec2 c = clamp(q + ivec2(j & 1, j >> 1) - 1, ivec2(0), ivec2(g.grid.xy) - 1);
       ivec2 b = c - first;
       lit = lit || visible[b.y * kCells + b.x] > kVisible;
     }
-    if (!lit) continue;
+    if (!lit && !(resolves && marked(q))) continue;
     uint slot = atomicAdd(vertexCount, 6u) / 6u;  // the splat pass reset it
     quads[slot] = uint(q.y) * (g.grid.x + 1u) + uint(q.x);
   }
 }
 
+#endif
+
 void main() {
-  if (kPass == kGlowSplat)
-    splat();
-  else
-    lightTile();
+#if LAVA_GLOW_LIGHT
+  lightTile();
+#else
+  splat();
+#endif
 }

@@ -238,16 +238,18 @@ const uint kGlowSumsBinding = 1u;       // the cells' energy, two planes of uint
 const uint kGlowLightBinding = 2u;      // after the blur: RG float per cell
 const uint kGlowListBinding = 3u;       // the quads to draw, and the draw's arguments
 const uint kGlowSumTexelsBinding = 4u;  // the sums again, as R32_UINT texels (for the blur)
+const uint kGlowMarksBinding = 5u;      // the splat's marked resolve tiles (when folded, below)
 const uint kGlowDrawListBinding = 0u;   // glow.vert: the list
 const uint kGlowDrawLightBinding = 1u;  // glow.frag: the light, as RG32F texels
-const uint kGlowSplat = 0u;             // glow.comp's passes (specialization constant 1)
-const uint kGlowLight = 1u;
+const uint kGlowDrawSumsBinding = 2u;   // glow_resolve.frag: the splat's sums
 struct GlowParams {
   mat4 viewProj;  // as DrawParams
   vec4 style;     // as DrawParams
   uvec4 grid;     // x cells across, y cells down, z particles in the bound range, w stride:
                   // every stride-th particle is added, its energy times stride
-  uvec4 target;   // x width, y height (pixels), z 1 for the first chunk's splat
+  uvec4 target;   // x width, y height (pixels), z 1 for the first chunk's splat, w 1 when
+                  // the glow's quads also resolve the splat's sums (the list then holds
+                  // the quads over its marked tiles too, lit or not)
   vec4 glow;      // x threshold (energy per pixel below which nothing glows), y strength,
                   // z exposure
 };

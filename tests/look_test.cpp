@@ -2,7 +2,7 @@
 // closed form (lava_color.glsl's model, written here again in C++) blended over the scene;
 // the glow lights pixels near bright lava and none far from it; 262,144 particles do not
 // burn out to white; lava at rest stays visible; the splat hides what the cone hides; the
-// two renderers agree.
+// two renderers agree; the glow's pass resolves every pixel the splat drew.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -288,6 +288,28 @@ TEST_F(LookTest, SplatSumsStopAtTheirCapInsteadOfWrapping) {
       }
     }
   }
+}
+
+TEST_F(LookTest, GlowQuadsResolveEverySplatPixel) {
+  // With the glow on, the splat's sums are resolved by the glow's quads in their pass: the
+  // light pass lists the quads over every resolve tile the splat marked, lit or not. Where
+  // nothing glows (a threshold no cell reaches) that pass must draw the resolve's own image;
+  // with the glow, it may only add light.
+  GpuSimulation simulation(device(), Scene{});
+  simulation.advance(3000);
+  const auto resolved = draw(simulation, LineMode::Splat, kNoBloom, kSize);
+  const auto dark = draw(simulation, LineMode::Splat, LookSettings{1.0f, 1.0f, 16.0f}, kSize);
+  const auto glowing = draw(simulation, LineMode::Splat, LookSettings{}, kSize);
+  ASSERT_EQ(dark.size(), resolved.size());
+  size_t differ = 0, darker = 0, brighter = 0;
+  for (size_t i = 0; i < resolved.size(); ++i) {
+    differ += dark[i] != resolved[i];
+    darker += glowing[i] < resolved[i];
+    brighter += glowing[i] > resolved[i];
+  }
+  EXPECT_EQ(differ, 0u) << "bytes where the glow's pass, nothing glowing, differs from the resolve";
+  EXPECT_EQ(darker, 0u) << "pixels the glow's pass left darker than the resolve";
+  EXPECT_GT(brighter, 1000u) << "the glow adds light";
 }
 
 TEST_F(LookTest, CachedBackdropDrawsTheSameImage) {

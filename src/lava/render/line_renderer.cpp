@@ -54,6 +54,7 @@ struct LineRenderer::Impl {
   detail::UniqueDescriptorSetLayout lineSet, splatSet, resolveSet, glowSet, glowDrawSet;
   detail::UniquePipelineLayout lineLayout, splatLayout, resolveLayout, glowLayout, glowDrawLayout;
   detail::UniquePipeline plainLines, lavaLines, splatPipeline, plainResolve, lavaResolve, glowDraw;
+  detail::UniquePipeline glowResolve;  // the glow's quads resolving the splat's sums too
   detail::UniquePipeline glowSplat, glowLight;
   detail::Image noDepth;  // 1x1, bound when the splat is given no scene depth
   VkExtent2D extent{0, 0};
@@ -68,7 +69,7 @@ struct LineRenderer::Impl {
 
   void recordSplat(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
                    const View& view, VkImageView depth) const;
-  void bindGlow(VkCommandBuffer commands, const GlowSlot& g, VkBufferView particles,
+  void bindGlow(VkCommandBuffer commands, uint32_t frame, VkBufferView particles,
                 const gpu::GlowParams& params) const;
   void recordGlow(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
                   gpu::GlowParams params) const;
@@ -130,16 +131,18 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_
       c,
       {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-       VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+       VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
       VK_SHADER_STAGE_COMPUTE_BIT);
   m.glowLayout = detail::createPipelineLayout(c, m.glowSet, VK_SHADER_STAGE_COMPUTE_BIT,
                                               sizeof(gpu::GlowParams));
-  m.glowSplat = detail::createComputePipeline(c, m.glowLayout, LAVA_SPIRV(spirv::kGlowCompSpv),
-                                              {gpu::kWorkgroupSize, gpu::kGlowSplat});
-  m.glowLight = detail::createComputePipeline(c, m.glowLayout, LAVA_SPIRV(spirv::kGlowCompSpv),
-                                              {gpu::kWorkgroupSize, gpu::kGlowLight});
+  m.glowSplat = detail::createComputePipeline(c, m.glowLayout, LAVA_SPIRV(spirv::kGlowSplatSpv),
+                                              {gpu::kWorkgroupSize});
+  m.glowLight = detail::createComputePipeline(c, m.glowLayout, LAVA_SPIRV(spirv::kGlowLightSpv),
+                                              {gpu::kWorkgroupSize});
   m.glowDrawSet = detail::createPushLayout(
-      c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+      c,
+      {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+       VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
       drawStages);
   m.glowDrawLayout =
       detail::createPipelineLayout(c, m.glowDrawSet, drawStages, sizeof(gpu::GlowParams));
@@ -150,6 +153,8 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_
   glowDraw.depthTest = false;
   glowDraw.depthWrite = false;
   m.glowDraw = detail::createGraphicsPipeline(c, m.glowDrawLayout, glowDraw);
+  glowDraw.frag = LAVA_SPIRV(spirv::kGlowResolveFragSpv);
+  m.glowResolve = detail::createGraphicsPipeline(c, m.glowDrawLayout, glowDraw);
 
   m.noDepth = detail::createImage(
       c, {1, 1}, VK_FORMAT_D32_SFLOAT,
@@ -298,14 +303,16 @@ void LineRenderer::Impl::recordSplat(VkCommandBuffer commands, uint32_t frame,
 }
 
 // glow.comp's bindings (both passes: `particles` is the splat's chunk) and parameters.
-void LineRenderer::Impl::bindGlow(VkCommandBuffer commands, const GlowSlot& g,
+void LineRenderer::Impl::bindGlow(VkCommandBuffer commands, uint32_t frame,
                                   VkBufferView particles, const gpu::GlowParams& params) const {
+  const GlowSlot& g = glow[frame];
   detail::PushDescriptors()
       .texels(gpu::kGlowParticlesBinding, particles)
       .buffer(gpu::kGlowSumsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.sums.get())
       .buffer(gpu::kGlowLightBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.light.get())
       .buffer(gpu::kGlowListBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.list.get())
       .texels(gpu::kGlowSumTexelsBinding, g.sumTexels)
+      .buffer(gpu::kGlowMarksBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, marks[frame].get())
       .push(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowLayout);
   c.vk.CmdPushConstants(commands, glowLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
                         &params);
@@ -314,8 +321,7 @@ void LineRenderer::Impl::bindGlow(VkCommandBuffer commands, const GlowSlot& g,
 void LineRenderer::Impl::recordGlow(VkCommandBuffer commands, uint32_t frame,
                                     const GpuSimulation& simulation,
                                     gpu::GlowParams params) const {
-  const GlowSlot& g = glow[frame];  // recordPrepare cleared the sums
-  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowSplat);
+  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowSplat);  // sums cleared
   const uint32_t stride = params.grid.w;
   params.target.z = 1;  // the first chunk's splat resets the list
   for (const ParticleChunk& chunk : simulation.chunks()) {
@@ -324,7 +330,7 @@ void LineRenderer::Impl::recordGlow(VkCommandBuffer commands, uint32_t frame,
                             VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                             VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
     params.grid.z = chunk.count;
-    bindGlow(commands, g, chunk.texels, params);
+    bindGlow(commands, frame, chunk.texels, params);
     c.vk.CmdDispatch(
         commands, detail::groupCount((uint64_t{chunk.count} + stride - 1) / stride,
                                      gpu::kWorkgroupSize),
@@ -337,7 +343,7 @@ void LineRenderer::Impl::recordGlowLight(VkCommandBuffer commands, uint32_t fram
                                          const GpuSimulation& simulation,
                                          const gpu::GlowParams& params) const {
   c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowLight);
-  bindGlow(commands, glow[frame], simulation.chunks().front().texels, params);
+  bindGlow(commands, frame, simulation.chunks().front().texels, params);
   // One workgroup per tile of quads (there is one quad more than cells across and down).
   c.vk.CmdDispatch(commands, grid.x / gpu::kGlowTile + 1, grid.y / gpu::kGlowTile + 1, 1);
 }
@@ -379,7 +385,8 @@ void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
                         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
   if (splat) m.recordSplat(commands, frame, simulation, view, depth);
   if (glow) {
-    const gpu::GlowParams params = glowParams(simulation, view, m.settings, m.grid);
+    gpu::GlowParams params = glowParams(simulation, view, m.settings, m.grid);
+    params.target.w = splat ? 1u : 0u;  // the glow's quads resolve the splat's sums too
     m.recordGlow(commands, frame, simulation, params);
     // RAW: the light pass reads the cells the splat added; it counts into the list's
     // arguments the splat reset.
@@ -389,7 +396,7 @@ void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
     m.recordGlowLight(commands, frame, simulation, params);
   }
   // RAW: resolve.vert reads the marks, resolve.frag the splat's sums; the glow's draw reads
-  // the list (its arguments too) and the light.
+  // the list (its arguments too) and the light (and the splat's sums, when it resolves them).
   detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                         VK_ACCESS_SHADER_WRITE_BIT,
                         VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
@@ -403,7 +410,11 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
   checkFrame(frame, m.framesInFlight);
   detail::setViewport(m.c, commands, view.extent);
   const bool lava = m.style == LookStyle::Lava;
-  if (m.mode == LineMode::Splat) {
+  const bool glow = lava && m.settings.bloom > 0.0f;
+  // The lava look's glow draws quads over the splat's marked tiles too and resolves the
+  // sums there, in the same pass (one blend a pixel where two passes would take two).
+  const bool splat = m.mode == LineMode::Splat;
+  if (splat && !glow) {
     const gpu::SplatParams params = splatParams(simulation, view, m.style, m.settings);
     m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
                            lava ? m.lavaResolve : m.plainResolve);
@@ -417,7 +428,7 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
                             VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                             sizeof(params), &params);
     m.c.vk.CmdDraw(commands, 6 * m.tiles.x * m.tiles.y, 1, 0, 0);
-  } else {
+  } else if (!splat) {
     gpu::DrawParams params{};
     params.viewProj = glm::make_mat4(view.viewProj.m);
     params.style = detail::lineStyle(simulation.scene(), m.style);
@@ -436,14 +447,19 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
       m.c.vk.CmdDraw(commands, 2 * chunk.count, 1, 0, 0);
     }
   }
-  if (!lava || m.settings.bloom <= 0.0f) return;
+  if (!glow) return;
   const GlowSlot& g = m.glow[frame];
-  const gpu::GlowParams params = glowParams(simulation, view, m.settings, m.grid);
-  m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.glowDraw);
-  detail::PushDescriptors()
-      .buffer(gpu::kGlowDrawListBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.list.get())
-      .texels(gpu::kGlowDrawLightBinding, g.lightTexels)
-      .push(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.glowDrawLayout);
+  gpu::GlowParams params = glowParams(simulation, view, m.settings, m.grid);
+  params.target.w = splat ? 1u : 0u;
+  m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
+                         splat ? m.glowResolve : m.glowDraw);
+  detail::PushDescriptors descriptors;
+  descriptors.buffer(gpu::kGlowDrawListBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.list.get())
+      .texels(gpu::kGlowDrawLightBinding, g.lightTexels);
+  if (splat)
+    descriptors.buffer(gpu::kGlowDrawSumsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                       m.accumulation[frame].get());
+  descriptors.push(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.glowDrawLayout);
   m.c.vk.CmdPushConstants(commands, m.glowDrawLayout,
                           VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                           sizeof(params), &params);

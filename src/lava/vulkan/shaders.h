@@ -5,8 +5,10 @@
 
 namespace lava::spirv {
 #include "copy_comp.h"
-#include "glow_comp.h"
 #include "glow_frag.h"
+#include "glow_light.h"
+#include "glow_resolve_frag.h"
+#include "glow_splat.h"
 #include "glow_vert.h"
 #include "ground_frag.h"
 #include "ground_vert.h"
