@@ -49,19 +49,21 @@ TEST(Random, StreamIsRoughlyUniformAndDistinct) {
   for (int b : buckets) EXPECT_NEAR(b, n / 10, n / 100);
 }
 
-// The splat's sums in 4 x 4 blocks: every pixel of a target its own index, within the
+// The splat's sums in 2 x 8 blocks: every pixel of a target its own index, within the
 // target rounded up to whole blocks, a block's 16 pixels in one 64-byte line, and two
 // pixels one above the other (the upper on an even row) in one 8-byte word.
+static_assert(kSplatBlockWidth * kSplatBlockHeight * sizeof(uint) == 64, "a block is a cache line");
+static_assert(kSplatBlockHeight % 2u == 0u, "a pair of rows never straddles two blocks");
 TEST(SplatLayout, EveryPixelHasItsOwnIndexWithinWholeBlocks) {
-  for (const auto& [width, height] : {std::pair{1u, 1u}, {5u, 3u}, {8u, 8u}, {1281u, 7u}}) {
-    const uint blocks = ((width + 3u) / 4u) * ((height + 3u) / 4u);
+  for (const auto& [width, height] : {std::pair{1u, 1u}, {5u, 3u}, {8u, 8u}, {1281u, 17u}}) {
+    const uint blocks = ((width + 1u) / 2u) * ((height + 7u) / 8u);
     std::set<uint> seen;
     for (uint y = 0; y < height; ++y)
       for (uint x = 0; x < width; ++x) {
         const uint at = splatIndex(x, y, width);
         EXPECT_LT(at, blocks * 16u) << x << ", " << y << " of " << width << "x" << height;
         seen.insert(at);
-        EXPECT_EQ(at / 16u, splatIndex(x & ~3u, y & ~3u, width) / 16u);
+        EXPECT_EQ(at / 16u, splatIndex(x & ~1u, y & ~7u, width) / 16u);
         // A pixel on an even row and the one below it: one 8-byte word, the upper low.
         if (y % 2u == 0u) {
           EXPECT_EQ(at % 2u, 0u);

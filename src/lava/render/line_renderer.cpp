@@ -217,9 +217,9 @@ void LineRenderer::setExtent(VkExtent2D extent) {
   for (uint32_t f = 0; f < m.framesInFlight; ++f) {
     m.accumulation.emplace_back(
         m.c,
-        VkDeviceSize{detail::groupCount(extent.width, gpu::kSplatBlock)} *
-            detail::groupCount(extent.height, gpu::kSplatBlock) * gpu::kSplatBlock *
-            gpu::kSplatBlock * sizeof(uint32_t),
+        VkDeviceSize{detail::groupCount(extent.width, gpu::kSplatBlockWidth)} *
+            detail::groupCount(extent.height, gpu::kSplatBlockHeight) * gpu::kSplatBlockWidth *
+            gpu::kSplatBlockHeight * sizeof(uint32_t),
         storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, detail::MemoryUse::Device);
     m.marks.emplace_back(m.c, VkDeviceSize{m.tiles.x} * m.tiles.y * sizeof(uint32_t),
                          storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, detail::MemoryUse::Device);
