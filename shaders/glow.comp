@@ -10,8 +10,8 @@
 //   the threshold, the hue kept: only what glows brightly spreads), blurred over 5 x 5 cells
 //   (separably, in shared memory) and times the strength, is the light the cell receives;
 //   the tile's quads where any of the four has visible light are appended to the list (its
-//   vertex count 6 per quad). When the draw also resolves the splat's sums (target.w), the
-//   quads over the tiles splat.comp marked are listed too, lit or not.
+//   vertex count 6 per quad). When the draw also resolves the splat's sums (specialization
+//   constant 1), the quads over the tiles splat.comp marked are listed too, lit or not.
 #extension GL_GOOGLE_include_directive : require
 #include "shared.h"
 #include "lava_color.glsl"
@@ -34,6 +34,7 @@ layout(std430, binding = kGlowListBinding) restrict buffer List {
 };
 layout(binding = kGlowSumTexelsBinding) uniform usamplerBuffer sumTexels;  // the sums again
 #if LAVA_GLOW_LIGHT
+layout(constant_id = 1) const bool kResolves = false;
 layout(std430, binding = kGlowMarksBinding) restrict readonly buffer Marks {
   uint marks[];  // splat.comp's resolve tiles, row by row, non-zero when marked
 };
@@ -129,13 +130,12 @@ void lightTile() {
   }
   barrier();
   bool dark = anyEnergy == 0u;  // the same in the whole workgroup
-  bool resolves = g.target.w != 0u;
   if (dark) {  // nothing reaches the tile: no light; only marked quads to list, if any
     for (uint k = lane; k < kGlowTile * kGlowTile; k += kWorkgroupSize) {
       ivec2 c = first + 1 + ivec2(int(k) % kTile, int(k) / kTile);
       if (onGrid(c)) light[c.y * int(g.grid.x) + c.x] = vec2(0.0);
     }
-    if (!resolves) return;
+    if (!kResolves) return;
   } else {
     for (uint k = lane; k < uint(kSpan * kCells); k += kWorkgroupSize) {
       int x = int(k) % kCells, y = int(k) / kCells;
@@ -166,7 +166,7 @@ void lightTile() {
       ivec2 b = c - first;
       lit = lit || visible[b.y * kCells + b.x] > kVisible;
     }
-    if (!lit && !(resolves && marked(q))) continue;
+    if (!lit && !(kResolves && marked(q))) continue;
     uint slot = atomicAdd(vertexCount, 6u) / 6u;  // the splat pass reset it
     quads[slot] = uint(q.y) * (g.grid.x + 1u) + uint(q.x);
   }

@@ -251,9 +251,7 @@ struct GlowParams {
   vec4 style;     // as DrawParams
   uvec4 grid;     // x cells across, y cells down, z particles in the bound range, w stride:
                   // every stride-th particle is added, its energy times stride
-  uvec4 target;   // x width, y height (pixels), z 1 for the first chunk's splat, w 1 when
-                  // the glow's quads also resolve the splat's sums (the list then holds
-                  // the quads over its marked tiles too, lit or not)
+  uvec4 target;   // x width, y height (pixels), z 1 for the first chunk's splat
   vec4 glow;      // x threshold (energy per pixel below which nothing glows), y strength,
                   // z exposure
 };

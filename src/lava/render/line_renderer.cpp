@@ -56,6 +56,7 @@ struct LineRenderer::Impl {
   detail::UniquePipeline plainLines, lavaLines, splatPipeline, plainResolve, lavaResolve, glowDraw;
   detail::UniquePipeline glowResolve;  // the glow's quads resolving the splat's sums too
   detail::UniquePipeline glowSplat, glowLight;
+  detail::UniquePipeline glowLightResolve;  // lists the quads over the splat's marked tiles too
   detail::Image noDepth;  // 1x1, bound when the splat is given no scene depth
   VkExtent2D extent{0, 0};
   glm::uvec2 grid{0, 0};             // glow cells across and down
@@ -74,7 +75,7 @@ struct LineRenderer::Impl {
   void recordGlow(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
                   gpu::GlowParams params) const;
   void recordGlowLight(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
-                       const gpu::GlowParams& params) const;
+                       const gpu::GlowParams& params, bool resolves) const;
 };
 
 LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_t framesInFlight)
@@ -138,7 +139,9 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_
   m.glowSplat = detail::createComputePipeline(c, m.glowLayout, LAVA_SPIRV(spirv::kGlowSplatSpv),
                                               {gpu::kWorkgroupSize});
   m.glowLight = detail::createComputePipeline(c, m.glowLayout, LAVA_SPIRV(spirv::kGlowLightSpv),
-                                              {gpu::kWorkgroupSize});
+                                              {gpu::kWorkgroupSize, VK_FALSE});
+  m.glowLightResolve = detail::createComputePipeline(
+      c, m.glowLayout, LAVA_SPIRV(spirv::kGlowLightSpv), {gpu::kWorkgroupSize, VK_TRUE});
   m.glowDrawSet = detail::createPushLayout(
       c,
       {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
@@ -341,8 +344,9 @@ void LineRenderer::Impl::recordGlow(VkCommandBuffer commands, uint32_t frame,
 
 void LineRenderer::Impl::recordGlowLight(VkCommandBuffer commands, uint32_t frame,
                                          const GpuSimulation& simulation,
-                                         const gpu::GlowParams& params) const {
-  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowLight);
+                                         const gpu::GlowParams& params, bool resolves) const {
+  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE,
+                       resolves ? glowLightResolve : glowLight);
   bindGlow(commands, frame, simulation.chunks().front().texels, params);
   // One workgroup per tile of quads (there is one quad more than cells across and down).
   c.vk.CmdDispatch(commands, grid.x / gpu::kGlowTile + 1, grid.y / gpu::kGlowTile + 1, 1);
@@ -385,15 +389,14 @@ void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
                         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
   if (splat) m.recordSplat(commands, frame, simulation, view, depth);
   if (glow) {
-    gpu::GlowParams params = glowParams(simulation, view, m.settings, m.grid);
-    params.target.w = splat ? 1u : 0u;  // the glow's quads resolve the splat's sums too
+    const gpu::GlowParams params = glowParams(simulation, view, m.settings, m.grid);
     m.recordGlow(commands, frame, simulation, params);
     // RAW: the light pass reads the cells the splat added; it counts into the list's
     // arguments the splat reset.
     detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                           VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                           VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-    m.recordGlowLight(commands, frame, simulation, params);
+    m.recordGlowLight(commands, frame, simulation, params, splat);  // the glow resolves the splat
   }
   // RAW: resolve.vert reads the marks, resolve.frag the splat's sums; the glow's draw reads
   // the list (its arguments too) and the light (and the splat's sums, when it resolves them).
@@ -449,8 +452,7 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
   }
   if (!glow) return;
   const GlowSlot& g = m.glow[frame];
-  gpu::GlowParams params = glowParams(simulation, view, m.settings, m.grid);
-  params.target.w = splat ? 1u : 0u;
+  const gpu::GlowParams params = glowParams(simulation, view, m.settings, m.grid);
   m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
                          splat ? m.glowResolve : m.glowDraw);
   detail::PushDescriptors descriptors;
