@@ -3,13 +3,13 @@
 // LAVA_GLOW_RESOLVE (glow_resolve.frag) it also resolves splat.comp's sums at the pixel, in
 // one pass instead of resolve.frag's and this one's: the lines' colour a and the glow's g
 // combine as the two blends would, 1 - (1 - a)(1 - g).
+layout(location = 0) in vec3 color;
+layout(location = 0) out vec4 outColor;
+#if LAVA_GLOW_RESOLVE
 #extension GL_GOOGLE_include_directive : require
 #include "shared.h"
 #include "lava_color.glsl"
 
-layout(location = 0) in vec3 color;
-layout(location = 0) out vec4 outColor;
-#if LAVA_GLOW_RESOLVE
 layout(std430, binding = kGlowDrawSumsBinding) restrict readonly buffer Accumulation {
   uint accumulation[];
 };

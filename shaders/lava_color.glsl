@@ -42,10 +42,14 @@ vec3 lavaToneMap(vec3 x) {
   return 1.0 - 1.0 / g;
 }
 
-// The lava look's colour of one pixel of splat.comp's sums (fixed point, red in the high 16
-// bits, green in the low 16), at `exposure`: resolve.frag's and glow_resolve.frag's.
+// One pixel of splat.comp's sums (fixed point, red in the high 16 bits, green in the low 16)
+// as the red and green the lines added there.
+vec2 splatSums(uint sum) {
+  return vec2(float(sum >> 16) / kSplatScale, float(sum & 0xFFFFu) / kSplatScale);
+}
+
+// The lava look's colour of one pixel of the splat's sums at `exposure`: resolve.frag's and
+// glow_resolve.frag's.
 vec3 lavaSplatColor(uint sum, float exposure) {
-  float r = float(sum >> 16) / kSplatScale;
-  float g = float(sum & 0xFFFFu) / kSplatScale;
-  return lavaToneMap(lavaEnergy(vec2(r, g)) * exposure);
+  return lavaToneMap(lavaEnergy(splatSums(sum)) * exposure);
 }

@@ -19,11 +19,7 @@ void main() {
   uint at = splatIndex(p.x, p.y, s.target.x);
   uint sum = accumulation[at];
   if (sum == 0u) discard;
-  if (s.style.w == kLookLava) {
-    outColor = vec4(lavaSplatColor(sum, s.look.x), 1.0);
-  } else {
-    float r = float(sum >> 16) / kSplatScale;
-    float g = float(sum & 0xFFFFu) / kSplatScale;
-    outColor = vec4(r, g, 0.06 * r, 1.0);
-  }
+  vec2 rg = splatSums(sum);
+  outColor = s.style.w == kLookLava ? vec4(lavaSplatColor(sum, s.look.x), 1.0)
+                                    : vec4(rg, 0.06 * rg.r, 1.0);
 }

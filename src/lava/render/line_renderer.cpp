@@ -414,24 +414,11 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
   detail::setViewport(m.c, commands, view.extent);
   const bool lava = m.style == LookStyle::Lava;
   const bool glow = lava && m.settings.bloom > 0.0f;
-  // The lava look's glow draws quads over the splat's marked tiles too and resolves the
-  // sums there, in the same pass (one blend a pixel where two passes would take two).
   const bool splat = m.mode == LineMode::Splat;
-  if (splat && !glow) {
-    const gpu::SplatParams params = splatParams(simulation, view, m.style, m.settings);
-    m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
-                           lava ? m.lavaResolve : m.plainResolve);
-    detail::PushDescriptors()
-        .buffer(gpu::kResolveSumsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                m.accumulation[frame].get())
-        .buffer(gpu::kResolveMarksBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                m.marks[frame].get())
-        .push(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.resolveLayout);
-    m.c.vk.CmdPushConstants(commands, m.resolveLayout,
-                            VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                            sizeof(params), &params);
-    m.c.vk.CmdDraw(commands, 6 * m.tiles.x * m.tiles.y, 1, 0, 0);
-  } else if (!splat) {
+  // The lines: the graphics pipeline's, or the splat's sums resolved over its marked tiles.
+  // With the glow on, the glow's quads resolve the sums instead (below), in their own pass:
+  // one blend a pixel where two passes would take two.
+  if (!splat) {
     gpu::DrawParams params{};
     params.viewProj = glm::make_mat4(view.viewProj.m);
     params.style = detail::lineStyle(simulation.scene(), m.style);
@@ -449,6 +436,20 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
           .push(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.lineLayout);
       m.c.vk.CmdDraw(commands, 2 * chunk.count, 1, 0, 0);
     }
+  } else if (!glow) {
+    const gpu::SplatParams params = splatParams(simulation, view, m.style, m.settings);
+    m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
+                           lava ? m.lavaResolve : m.plainResolve);
+    detail::PushDescriptors()
+        .buffer(gpu::kResolveSumsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                m.accumulation[frame].get())
+        .buffer(gpu::kResolveMarksBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                m.marks[frame].get())
+        .push(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.resolveLayout);
+    m.c.vk.CmdPushConstants(commands, m.resolveLayout,
+                            VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                            sizeof(params), &params);
+    m.c.vk.CmdDraw(commands, 6 * m.tiles.x * m.tiles.y, 1, 0, 0);
   }
   if (!glow) return;
   const GlowSlot& g = m.glow[frame];
