@@ -1,11 +1,13 @@
 #version 460
 // Vertex pulling: vertex 2i is particle i's position x, vertex 2i+1 is x + s·v (seed eqs.
-// 8-9), read straight from the buffer step.comp writes. Unborn slots fall outside the clip.
+// 8-9), read straight from the buffer step.comp writes, the line clipped to the view volume
+// here (clip.glsl). Unborn slots draw nothing.
 // The lava look stretches a line shorter than the shortest drawn (d.target.w pixels) to
 // it, keeping the energy of its true length, so that lava at rest stays visible, and gives
 // it its tone-mapped colour (lava_color.glsl).
 #extension GL_GOOGLE_include_directive : require
 #include "shared.h"
+#include "clip.glsl"
 #include "lava_color.glsl"
 
 layout(std430, binding = kParticleBinding) restrict readonly buffer Particles {
@@ -19,20 +21,19 @@ layout(location = 0) out vec4 color;
 void main() {
   Particle q = particles[gl_VertexIndex >> 1];
   if (q.posAge.w < 0.0) {
-    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // clipped: never-emitted slots draw nothing
+    gl_Position = kNowhere;  // never-emitted slots draw nothing
     color = vec4(0.0);
     return;
   }
   vec3 v = q.velMass.xyz;
   uint end = uint(gl_VertexIndex & 1);
+  vec4 a = d.viewProj * vec4(q.posAge.xyz, 1.0);
+  vec4 b = d.viewProj * vec4(q.posAge.xyz + d.style.x * v, 1.0);
   if (d.style.w != kLookLava) {
-    vec3 p = q.posAge.xyz + float(end) * d.style.x * v;
-    gl_Position = d.viewProj * vec4(p, 1.0);
+    gl_Position = clipLineEnd(a, b, end);
     color = vec4(lavaColor(v, q.posAge.w, d.style), 1.0);
     return;
   }
-  vec4 a = d.viewProj * vec4(q.posAge.xyz, 1.0);
-  vec4 b = d.viewProj * vec4(q.posAge.xyz + d.style.x * v, 1.0);
   float energy = 1.0;
   if (a.w > 0.0 && b.w > 0.0) {
     vec2 half_ = d.target.xy * 0.5;
@@ -45,7 +46,7 @@ void main() {
       energy = max(length_, 1.0) / d.target.w;
     }
   }
-  gl_Position = end == 0u ? a : b;
+  gl_Position = clipLineEnd(a, b, end);
   vec3 e = lavaEnergy(lavaEmission(v, q.posAge.w, d.style)) * (energy * d.target.z);
   color = vec4(lavaToneMap(e), 1.0);
 }

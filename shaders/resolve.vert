@@ -1,8 +1,9 @@
 #version 460
 // One quad (two triangles, six vertices) per resolve tile of the target, clipped to it, for
-// the tiles splat.comp marked; the vertices of the others fall on one point outside the clip
-// volume and draw nothing. Adjacent quads share their edges exactly: no pixel twice.
+// the tiles splat.comp marked; the vertices of the others fall on one point (clip.glsl's
+// kNowhere) and draw nothing. Adjacent quads share their edges exactly: no pixel twice.
 #extension GL_GOOGLE_include_directive : require
+#include "clip.glsl"
 #include "shared.h"
 
 layout(std430, binding = kResolveMarksBinding) restrict readonly buffer Marks {
@@ -15,7 +16,7 @@ layout(push_constant) uniform Push {
 void main() {
   uint tile = uint(gl_VertexIndex) / 6u, corner = uint(gl_VertexIndex) % 6u;
   if (marks[tile] == 0u) {
-    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+    gl_Position = kNowhere;
     return;
   }
   uint tilesAcross = (s.target.x + kResolveTile - 1u) / kResolveTile;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdlib>
 #include <memory>
 
@@ -192,6 +193,71 @@ TEST_F(RenderTest, ZeroLengthLinesDrawNothingInEitherRenderer) {
   const std::vector<Particle> unborn(50, particle(kSkyPoint, glm::vec3(0.0f), -1.0f));
   for (LineMode mode : {LineMode::Lines, LineMode::Splat})
     EXPECT_EQ(render(resting, mode), render(unborn, mode)) << (mode == LineMode::Splat);
+}
+
+// lines.vert clips each line to the view volume itself (no vertex may leave it, or llvmpipe
+// takes its slow clipping path): a line leaving the target is drawn up to its edge along
+// the same pixels, one wholly off it draws nothing, and one whose end lies behind the
+// camera draws its visible part: from its start, the way the line leaves it on screen
+// (projecting the end itself, through w < 0, would point the other way).
+TEST_F(RenderTest, LinesLeavingTheViewAreDrawnUpToItsEdgeAndNoFurther) {
+  const glm::mat4 viewProj =
+      glm::make_mat4(camera_.viewProj(float(kSize.width) / float(kSize.height)).m);
+  const auto pixelOf = [&](glm::vec3 p) {
+    const glm::vec4 c = viewProj * glm::vec4(p, 1.0f);
+    return (glm::vec2(c) / c.w * 0.5f + 0.5f) * glm::vec2(float(kSize.width), float(kSize.height));
+  };
+  const std::vector<uint8_t> empty = render({particle(kSkyPoint, glm::vec3(1.0f), -1.0f)});
+  // The centres of the pixels a line lit (red over the scene's by more than 100).
+  const auto lit = [&](const std::vector<uint8_t>& image) {
+    std::vector<glm::vec2> centres;
+    for (uint32_t y = 0; y < kSize.height; ++y)
+      for (uint32_t x = 0; x < kSize.width; ++x) {
+        const size_t i = (size_t(y) * kSize.width + x) * 4;
+        if (image[i] > empty[i] + 100) centres.push_back({float(x) + 0.5f, float(y) + 0.5f});
+      }
+    return centres;
+  };
+  // Every lit pixel within `slack` of the ray from `from` along `dir`, none behind it; the
+  // count of them.
+  const auto alongRay = [&](const std::vector<glm::vec2>& centres, glm::vec2 from, glm::vec2 dir,
+                            const char* what) {
+    dir = glm::normalize(dir);
+    for (const glm::vec2 c : centres) {
+      const glm::vec2 d = c - from;
+      EXPECT_GT(glm::dot(d, dir), -1.5f) << what << ": pixel (" << c.x << ", " << c.y << ")";
+      EXPECT_LT(std::abs(d.x * dir.y - d.y * dir.x), 1.0f)
+          << what << ": pixel (" << c.x << ", " << c.y << ") off the line";
+    }
+    return centres.size();
+  };
+
+  // Out through the right edge and through the top: every column (row) up to the edge.
+  const glm::vec2 right0{250.2f, 100.3f}, right1{1000.0f, 130.0f};
+  const auto rightLit = lit(render({lineBetween(right0, right1)}));
+  EXPECT_GE(alongRay(rightLit, right0, right1 - right0, "right"), size_t(kSize.width) - 251u);
+  EXPECT_TRUE(std::any_of(rightLit.begin(), rightLit.end(),
+                          [](glm::vec2 c) { return c.x == float(kSize.width) - 0.5f; }));
+  const glm::vec2 top0{100.4f, 60.2f}, top1{70.0f, -500.0f};
+  const auto topLit = lit(render({lineBetween(top0, top1)}));
+  EXPECT_GE(alongRay(topLit, top0, top1 - top0, "top"), 59u);
+  EXPECT_TRUE(std::any_of(topLit.begin(), topLit.end(), [](glm::vec2 c) { return c.y == 0.5f; }));
+
+  // Wholly off the target, left of it and below it: nothing.
+  EXPECT_EQ(render({lineBetween({-300.0f, 100.0f}, {-20.0f, 140.0f})}), empty);
+  EXPECT_EQ(render({lineBetween({40.0f, 400.0f}, {300.0f, 260.0f})}), empty);
+
+  // From the sky point to behind the camera, passing beside it.
+  const Vec3 e = camera_.eye();
+  const glm::vec3 eye{e.x, e.y, e.z};
+  const glm::vec3 behind = eye + 0.5f * (eye - kSkyPoint) + glm::vec3(0.0f, 0.0f, 1.5f);
+  const glm::vec2 start = pixelOf(kSkyPoint);
+  const glm::vec2 toward = pixelOf(kSkyPoint + 0.02f * (behind - kSkyPoint)) - start;
+  const auto behindLit = lit(render({particle(kSkyPoint, (behind - kSkyPoint) / 0.3f, 0.0f)}));
+  EXPECT_GE(alongRay(behindLit, start, toward, "behind the camera"), 120u);
+  EXPECT_TRUE(std::any_of(behindLit.begin(), behindLit.end(),
+                          [&](glm::vec2 c) { return glm::length(c - start) < 2.0f; }))
+      << "the line's start at (" << start.x << ", " << start.y << ") is not drawn";
 }
 
 TEST_F(RenderTest, SplatAndPipelineLightTheSamePixels) {
