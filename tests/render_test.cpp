@@ -59,14 +59,17 @@ class RenderTest : public test::VulkanTest {
     return host::renderOffscreen(*submitter_, renderer, simulation, target, camera);
   }
 
-  // Pixel position of a world point.
-  glm::ivec2 project(glm::vec3 p) const {
-    const glm::vec4 clip =
-        glm::make_mat4(camera_.viewProj(float(kSize.width) / float(kSize.height)).m) *
-        glm::vec4(p, 1.0f);
-    return {int((clip.x / clip.w * 0.5f + 0.5f) * float(kSize.width)),
-            int((clip.y / clip.w * 0.5f + 0.5f) * float(kSize.height))};
+  glm::mat4 viewProj() const {
+    return glm::make_mat4(camera_.viewProj(float(kSize.width) / float(kSize.height)).m);
   }
+  // Where a world point lands on the target, in pixels (a pixel's centre at + 0.5).
+  glm::vec2 pixelOf(glm::vec3 p) const {
+    const glm::vec4 clip = viewProj() * glm::vec4(p, 1.0f);
+    return (glm::vec2(clip) / clip.w * 0.5f + 0.5f) *
+           glm::vec2(float(kSize.width), float(kSize.height));
+  }
+  // The pixel a world point lands in.
+  glm::ivec2 project(glm::vec3 p) const { return glm::ivec2(pixelOf(p)); }
 
   // The brightest pixel (sum of RGB) within 2 pixels of `at`.
   static std::array<int, 3> brightestNear(const std::vector<uint8_t>& image, glm::ivec2 at) {
@@ -103,11 +106,9 @@ class RenderTest : public test::VulkanTest {
 const glm::vec3 kSkyPoint{0.0f, 2.6f, 0.0f};  // above the horizon: only the clear color behind
 
 glm::vec3 RenderTest::unproject(glm::vec2 p) const {
-  const glm::mat4 viewProj =
-      glm::make_mat4(camera_.viewProj(float(kSize.width) / float(kSize.height)).m);
-  const glm::vec4 sky = viewProj * glm::vec4(kSkyPoint, 1.0f);
+  const glm::vec4 sky = viewProj() * glm::vec4(kSkyPoint, 1.0f);
   const glm::vec2 ndc = p / glm::vec2(float(kSize.width), float(kSize.height)) * 2.0f - 1.0f;
-  const glm::vec4 world = glm::inverse(viewProj) * glm::vec4(ndc * sky.w, sky.z, sky.w);
+  const glm::vec4 world = glm::inverse(viewProj()) * glm::vec4(ndc * sky.w, sky.z, sky.w);
   return glm::vec3(world) / world.w;
 }
 
@@ -201,12 +202,6 @@ TEST_F(RenderTest, ZeroLengthLinesDrawNothingInEitherRenderer) {
 // camera draws its visible part: from its start, the way the line leaves it on screen
 // (projecting the end itself, through w < 0, would point the other way).
 TEST_F(RenderTest, LinesLeavingTheViewAreDrawnUpToItsEdgeAndNoFurther) {
-  const glm::mat4 viewProj =
-      glm::make_mat4(camera_.viewProj(float(kSize.width) / float(kSize.height)).m);
-  const auto pixelOf = [&](glm::vec3 p) {
-    const glm::vec4 c = viewProj * glm::vec4(p, 1.0f);
-    return (glm::vec2(c) / c.w * 0.5f + 0.5f) * glm::vec2(float(kSize.width), float(kSize.height));
-  };
   const std::vector<uint8_t> empty = render({particle(kSkyPoint, glm::vec3(1.0f), -1.0f)});
   // The centres of the pixels a line lit (red over the scene's by more than 100).
   const auto lit = [&](const std::vector<uint8_t>& image) {
@@ -218,8 +213,8 @@ TEST_F(RenderTest, LinesLeavingTheViewAreDrawnUpToItsEdgeAndNoFurther) {
       }
     return centres;
   };
-  // Every lit pixel within `slack` of the ray from `from` along `dir`, none behind it; the
-  // count of them.
+  // Checks every lit pixel's centre lies within a pixel of the ray from `from` along `dir`
+  // (none more than 1.5 behind its start); returns how many there are.
   const auto alongRay = [&](const std::vector<glm::vec2>& centres, glm::vec2 from, glm::vec2 dir,
                             const char* what) {
     dir = glm::normalize(dir);
