@@ -2,8 +2,8 @@
 // Dark basalt with a faint 1 m grid for scale on the ground, lit from above and warmed near
 // the vent; the solids in lit stone, a cone's mouth glowing molten. The lava look shades in
 // linear energy and tone maps it as the lines are (lava_color.glsl), then encodes it for
-// the display: a night sky fading into a warm haze at the horizon, the rock lit by the
-// eruption (a light above the vent) and the mouth glowing.
+// the display: the rock lit by the eruption (a light above the vent) and the mouth glowing.
+// (The sky is sky.vert's.)
 #extension GL_GOOGLE_include_directive : require
 #include "shared.h"
 #include "lava_color.glsl"
@@ -19,12 +19,6 @@ layout(location = 0) out vec4 outColor;
 void main() {
   uint kind = uint(b.solid.w);
   bool lava = b.eye.w == kLookLava;
-  if (kind == kSolidSky) {
-    vec3 zenith = vec3(0.0015, 0.0018, 0.006), haze = vec3(0.030, 0.011, 0.006);
-    vec3 sky = mix(haze, zenith, smoothstep(0.25, 1.0, height));
-    outColor = vec4(pow(lavaToneMap(sky), vec3(1.0 / 2.2)), 1.0);
-    return;
-  }
   vec3 n = normalize(normal);
   // A wall seen from behind is left out: the camera looks into a room through it.
   if (kind == kSolidPlane && dot(n, b.eye.xyz - world) < 0.0) discard;

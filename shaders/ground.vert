@@ -85,13 +85,6 @@ void main() {
     box(i, p, n);
   } else if (kind == kSolidPlane) {
     plane(i, p, n);
-  } else if (kind == kSolidSky) {
-    vec2 c = vec2((i << 1u) & 2u, i & 2u);
-    gl_Position = vec4(c * 2.0 - 1.0, 1.0, 1.0);
-    world = vec3(0.0);
-    normal = vec3(0.0, 1.0, 0.0);
-    height = 1.0 - c.y;  // 1 at the top of the screen, 0 at the bottom
-    return;
   } else {
     vec2 c = (kQuad[i] * 2.0 - 1.0) * kGroundHalf;
     p = vec3(c.x, 0.0, c.y);

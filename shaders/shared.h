@@ -44,7 +44,6 @@ const uint kSolidCone = 1u;    // kRoundSides side quads and a top cap fan
 const uint kSolidSphere = 2u;  // kRoundSides x kSphereRings quads
 const uint kSolidBox = 3u;     // 12 triangles
 const uint kSolidPlane = 4u;   // a square of 8 m in the plane
-const uint kSolidSky = 5u;     // one triangle over the screen, at the far plane
 const uint kRoundSides = 48u;
 const uint kSphereRings = 24u;
 const uint kGroundVertices = 6u;
@@ -52,6 +51,10 @@ const uint kConeVertices = 6u * kRoundSides + 3u * kRoundSides;
 const uint kSphereVertices = 6u * kRoundSides * kSphereRings;
 const uint kBoxVertices = 36u;
 const uint kPlaneVertices = 6u;
+// The lava look's sky (sky.vert): one band below the haze's edge, then kSkyBands - 1 up to the
+// top, each coloured at its edges (within 0.3 of a display step of the gradient with 17).
+const uint kSkyBands = 17u;
+const uint kSkyVertices = 6u * kSkyBands;
 
 // Specialization constants of step.comp (0 is the workgroup size): which modules the
 // scene uses, so that the default scene pays for none of the others.
@@ -183,7 +186,7 @@ struct DrawParams {
 struct BackdropParams {
   mat4 viewProj;  // as DrawParams
   vec4 solid;     // xyz where the solid is (plane point, centre, cone base centre) (m),
-                  // w kSolidGround ... kSolidSky
+                  // w kSolidGround ... kSolidPlane
   vec4 size;      // cone: x base radius, y top radius, z height; sphere: x radius; box: xyz
                   // half-extents; plane: xyz unit normal (m)
   vec4 vent;      // xyz the main vent (emitter 0) (m), w its radius: where the rock glows

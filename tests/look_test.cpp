@@ -2,7 +2,8 @@
 // closed form (lava_color.glsl's model, written here again in C++) blended over the scene;
 // the glow lights pixels near bright lava and none far from it; 262,144 particles do not
 // burn out to white; lava at rest stays visible; the splat hides what the cone hides; the
-// two renderers agree; the glow's pass resolves every pixel the splat drew.
+// two renderers agree; the glow's pass resolves every pixel the splat drew; the sky is its
+// gradient.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -310,6 +311,29 @@ TEST_F(LookTest, GlowQuadsResolveEverySplatPixel) {
   EXPECT_EQ(differ, 0u) << "bytes where the glow's pass, nothing glowing, differs from the resolve";
   EXPECT_EQ(darker, 0u) << "pixels the glow's pass left darker than the resolve";
   EXPECT_GT(brighter, 1000u) << "the glow adds light";
+}
+
+TEST_F(LookTest, SkyIsTheNightGradientWithinADisplayStep) {
+  // sky.vert colours the sky in bands, at their edges only: every pixel of the top 30% of
+  // the frame (all sky in the default view) is still the gradient's colour at its height,
+  // a night blue at the top warming into the haze, within one display step (rounding).
+  const auto image = render(Scene{}, {unborn()}, LineMode::Lines, kNoBloom);
+  const glm::vec3 zenith{0.0015f, 0.0018f, 0.006f}, haze{0.030f, 0.011f, 0.006f};
+  int worst = 0;
+  for (uint32_t y = 0; y < kSize.height * 3 / 10; ++y) {
+    const float height = 1.0f - (float(y) + 0.5f) / float(kSize.height);  // 1 at the top
+    const float t = std::clamp((height - 0.25f) / 0.75f, 0.0f, 1.0f);
+    const glm::vec3 sky = glm::mix(haze, zenith, t * t * (3.0f - 2.0f * t));
+    const glm::ivec3 expected(glm::round(glm::pow(toneMap(sky), glm::vec3(1.0f / 2.2f)) * 255.0f));
+    for (uint32_t x : {0u, kSize.width / 2, kSize.width - 1}) {
+      const glm::ivec3 d = glm::abs(pixel(image, {int(x), int(y)}) - expected);
+      worst = std::max({worst, d.x, d.y, d.z});
+    }
+  }
+  EXPECT_LE(worst, 1) << "display steps between the sky and its gradient";
+  const glm::ivec3 top = pixel(image, {0, 0}), low = pixel(image, {0, int(kSize.height) * 3 / 10});
+  EXPECT_GT(top.z, top.x) << "night blue at the top";
+  EXPECT_GT(low.x, top.x) << "warmer towards the horizon";
 }
 
 TEST_F(LookTest, CachedBackdropDrawsTheSameImage) {

@@ -101,8 +101,9 @@ class LAVA_API Backdrop {
   Backdrop(const Backdrop&) = delete;
   Backdrop& operator=(const Backdrop&) = delete;
 
-  // Inside dynamic rendering with the formats given at construction, the solids (and in
-  // the lava look first a sky), opaque, writing depth. Records only.
+  // Inside dynamic rendering with the formats given at construction, the solids, opaque,
+  // writing depth, and in the lava look a sky where the depth is still the far plane (the
+  // depth cleared to 1; without a depth format the sky is drawn first). Records only.
   void recordDraw(VkCommandBuffer commands, const View& view, const Scene& scene,
                   LookStyle style = LookStyle::Lava) const;
 

@@ -1,6 +1,6 @@
 // Backdrop: the ground plane and the scene's colliders (or, in a scene without colliders
 // whose vent is a disc, a crater of scenery under it), generated from gl_VertexIndex, opaque
-// and writing depth.
+// and writing depth; in the lava look the sky (sky.vert) where they leave the far plane.
 #include <glm/gtc/type_ptr.hpp>
 
 #include "lava/renderer.h"
@@ -16,6 +16,8 @@ struct Backdrop::Impl {
   const detail::DeviceContext& c;
   detail::UniquePipelineLayout layout;
   detail::UniquePipeline pipeline;
+  detail::UniquePipeline sky;  // the lava look's: bands coloured per vertex, no depth write
+  bool hasDepth = true;
 };
 
 Backdrop::Backdrop(Device& device, const RenderFormats& formats)
@@ -28,6 +30,12 @@ Backdrop::Backdrop(Device& device, const RenderFormats& formats)
                                             LAVA_SPIRV(spirv::kGroundFragSpv), formats.color,
                                             formats.depth};
   m.pipeline = detail::createGraphicsPipeline(m.c, m.layout, solids);
+  detail::GraphicsPipelineDesc sky{LAVA_SPIRV(spirv::kSkyVertSpv),
+                                   LAVA_SPIRV(spirv::kLinesFragSpv), formats.color,
+                                   formats.depth};
+  sky.depthWrite = false;
+  m.sky = detail::createGraphicsPipeline(m.c, m.layout, sky);
+  m.hasDepth = formats.depth != VK_FORMAT_UNDEFINED;
 }
 
 Backdrop::~Backdrop() = default;
@@ -51,7 +59,12 @@ void Backdrop::recordDraw(VkCommandBuffer commands, const View& view, const Scen
                             sizeof(p), &p);
     m.c.vk.CmdDraw(commands, vertices, 1, 0, 0);
   };
-  if (lava) draw(gpu::kSolidSky, {}, {}, 3);
+  const auto drawSky = [&] {
+    m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.sky);
+    m.c.vk.CmdDraw(commands, gpu::kSkyVertices, 1, 0, 0);
+    m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.pipeline);
+  };
+  if (lava && !m.hasDepth) drawSky();  // without a depth test, first, under the solids
   draw(gpu::kSolidGround, {}, {}, gpu::kGroundVertices);
   for (const Collider& c : scene.colliders) {
     switch (c.type) {
@@ -79,6 +92,7 @@ void Backdrop::recordDraw(VkCommandBuffer commands, const View& view, const Scen
     draw(gpu::kSolidCone, {vent.position.x, 0.0f, vent.position.z},
          {rim + top * 0.9f, rim, top, 0.0f}, gpu::kConeVertices);
   }
+  if (lava && m.hasDepth) drawSky();  // last, at the far plane: where no solid is
 }
 
 }  // namespace lava

@@ -16,6 +16,7 @@ namespace lava::spirv {
 #include "lines_vert.h"
 #include "resolve_frag.h"
 #include "resolve_vert.h"
+#include "sky_vert.h"
 #include "splat_comp.h"
 #include "splat_pairs.h"
 #include "step_comp.h"
