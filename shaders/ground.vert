@@ -3,6 +3,7 @@
 // colliders (a cone with its cap, a sphere, a box, a square of a plane), one draw each.
 #extension GL_GOOGLE_include_directive : require
 #include "shared.h"
+#include "solids.glsl"
 
 layout(push_constant) uniform Push {
   BackdropParams b;
@@ -10,6 +11,10 @@ layout(push_constant) uniform Push {
 layout(location = 0) out vec3 world;
 layout(location = 1) out vec3 normal;
 layout(location = 2) out float height;  // 0 at a cone's base, 1 at its top
+// The lava look's rock under the sky light, in linear energy, off and on the ground's grid
+// lines: smooth over a solid, so a vertex's is interpolated instead of a pow per pixel.
+layout(location = 3) out vec3 rockLinear;
+layout(location = 4) out vec3 gridLinear;
 
 const float kGroundHalf = 12.0;
 const float kPlaneHalf = 4.0;
@@ -94,4 +99,7 @@ void main() {
   world = b.solid.xyz + p;
   normal = n;
   gl_Position = b.viewProj * vec4(world, 1.0);
+  vec3 rock = solidAlbedo(kind) * skyLight(n);
+  rockLinear = pow(rock, vec3(2.2)) * 0.8;
+  gridLinear = kind == kSolidGround ? pow(rock + kGridLine, vec3(2.2)) * 0.8 : rockLinear;
 }

@@ -42,6 +42,14 @@ vec3 lavaToneMap(vec3 x) {
   return 1.0 - 1.0 / g;
 }
 
+// x^(1/2.2), the display's encoding, for x in [0, 1], within 0.17 of a display step: a
+// polynomial in x^(1/4) (two square roots; a pow is a log2 and an exp2 a channel, and the
+// backdrop, drawn each frame while the camera moves, encodes every pixel).
+vec3 displayEncode(vec3 x) {
+  vec3 q = sqrt(sqrt(max(x, vec3(0.0))));
+  return q * (0.0402006 + q * (1.2038502 + q * (-0.3550050 + q * 0.1112770)));
+}
+
 // One pixel of splat.comp's sums (fixed point, red in the high 16 bits, green in the low 16)
 // as the red and green the lines added there.
 vec2 splatSums(uint sum) {
