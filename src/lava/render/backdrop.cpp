@@ -50,7 +50,6 @@ void Backdrop::recordDraw(VkCommandBuffer commands, const View& view, const Scen
   const bool lava = style == LookStyle::Lava;
   p.eye = {view.eye.x, view.eye.y, view.eye.z, lava ? gpu::kLookLava : gpu::kLookPlain};
   detail::setViewport(m.c, commands, view.extent);
-  m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.pipeline);
   const auto draw = [&](uint32_t kind, const Vec3& at, const glm::vec4& size, uint32_t vertices) {
     p.solid = {at.x, at.y, at.z, float(kind)};
     p.size = size;
@@ -62,9 +61,9 @@ void Backdrop::recordDraw(VkCommandBuffer commands, const View& view, const Scen
   const auto drawSky = [&] {
     m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.sky);
     m.c.vk.CmdDraw(commands, gpu::kSkyVertices, 1, 0, 0);
-    m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.pipeline);
   };
   if (lava && !m.hasDepth) drawSky();  // without a depth test, first, under the solids
+  m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.pipeline);
   draw(gpu::kSolidGround, {}, {}, gpu::kGroundVertices);
   for (const Collider& c : scene.colliders) {
     switch (c.type) {
