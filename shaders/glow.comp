@@ -3,7 +3,7 @@
 // modules: glow_splat without LAVA_GLOW_LIGHT, glow_light with it), over sums the renderer
 // cleared:
 // - splat: every stride-th alive particle adds its line's energy (times the stride) into
-//   the cell of the line's middle, in fixed point (two planes of uint, red and green);
+//   the cell of the line's middle, in fixed point (a pair of uint a cell, red and green);
 // - light: per workgroup, a tile of kGlowTile x kGlowTile quads of the dual grid (one more
 //   across and down than cells: a quad spans four neighbouring cells' centres, the edges
 //   clamped). Each cell's energy per pixel above the threshold (the brightest channel less
@@ -20,7 +20,7 @@ layout(local_size_x_id = 0) in;
 
 layout(binding = kGlowParticlesBinding) uniform samplerBuffer particles;
 layout(std430, binding = kGlowSumsBinding) restrict buffer Sums {
-  uint sums[];  // red cells, then green cells
+  uint sums[];  // per cell its red, then its green
 };
 layout(std430, binding = kGlowLightBinding) restrict writeonly buffer Light {
   vec2 light[];
@@ -32,7 +32,7 @@ layout(std430, binding = kGlowListBinding) restrict buffer List {
   uint firstInstance;
   uint quads[];  // the quads to draw
 };
-layout(binding = kGlowSumTexelsBinding) uniform usamplerBuffer sumTexels;  // the sums again
+layout(binding = kGlowSumTexelsBinding) uniform usamplerBuffer sumTexels;  // the sums again, RG
 #if LAVA_GLOW_LIGHT
 layout(constant_id = 1) const bool kResolves = false;
 layout(std430, binding = kGlowMarksBinding) restrict readonly buffer Marks {
@@ -72,8 +72,8 @@ void splat() {
   vec2 e = lavaEmission(v, posAge.w, g.style) * (pixels * float(g.grid.w) * kFixed);
   uvec2 c = min(uvec2(mid) / kGlowCell, g.grid.xy - 1u);
   uint cell = c.y * g.grid.x + c.x;
-  atomicAdd(sums[cell], uint(e.r + 0.5));
-  atomicAdd(sums[g.grid.x * g.grid.y + cell], uint(e.g + 0.5));
+  atomicAdd(sums[2u * cell], uint(e.r + 0.5));
+  atomicAdd(sums[2u * cell + 1u], uint(e.g + 0.5));
 }
 
 // The light pass's blocks, in cells from the tile's first quad less one (the cells its
@@ -93,10 +93,9 @@ bool onGrid(ivec2 c) {
 
 vec2 thresholded(ivec2 c) {
   if (!onGrid(c)) return vec2(0.0);
-  int cell = c.y * int(g.grid.x) + c.x;
-  int n = int(g.grid.x * g.grid.y);
-  // Read as texels: on llvmpipe a gather, where a storage-buffer load is a loop over lanes.
-  vec2 e = vec2(float(texelFetch(sumTexels, cell).r), float(texelFetch(sumTexels, n + cell).r)) *
+  // Read as texels, a cell's two sums in one: on llvmpipe a gather, where a storage-buffer
+  // load is a loop over lanes; these fetches are most of the light pass's cost there.
+  vec2 e = vec2(texelFetch(sumTexels, c.y * int(g.grid.x) + c.x).rg) *
            (1.0 / (kFixed * float(kGlowCell * kGlowCell)));
   float peak = max(e.r, e.g);
   return peak > g.glow.x ? e * ((peak - g.glow.x) / peak) : vec2(0.0);

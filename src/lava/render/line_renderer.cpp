@@ -231,7 +231,8 @@ void LineRenderer::setExtent(VkExtent2D extent) {
                     storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
                         VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                     detail::MemoryUse::Device);
-    g.sumTexels = detail::createTexelView(m.c, g.sums.get(), VK_WHOLE_SIZE, VK_FORMAT_R32_UINT);
+    g.sumTexels =
+        detail::createTexelView(m.c, g.sums.get(), VK_WHOLE_SIZE, VK_FORMAT_R32G32_UINT);
     g.light = Buffer(m.c, cells * 2 * sizeof(float),
                      storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, detail::MemoryUse::Device);
     g.lightTexels =
