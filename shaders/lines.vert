@@ -1,7 +1,9 @@
 #version 460
 // Vertex pulling: vertex 2i is particle i's position x, vertex 2i+1 is x + s·v (seed eqs.
 // 8-9), read straight from the buffer step.comp writes, the line clipped to the view volume
-// here (clip.glsl). Unborn slots draw nothing.
+// here (clip.glsl). Unborn slots draw nothing. The buffer is read through its texel view
+// (two RGBA32F texels a particle): on llvmpipe a gather, where a storage-buffer load is a
+// loop over the lanes, and the plain look's 5,000-particle frame ran 1.3x faster so.
 // The lava look stretches a line shorter than the shortest drawn (d.target.w pixels) to
 // it, keeping the energy of its true length, so that lava at rest stays visible, and gives
 // it its tone-mapped colour (lava_color.glsl).
@@ -10,16 +12,15 @@
 #include "clip.glsl"
 #include "lava_color.glsl"
 
-layout(std430, binding = kParticleBinding) restrict readonly buffer Particles {
-  Particle particles[];
-};
+layout(binding = kParticleBinding) uniform samplerBuffer particles;  // two texels a particle
 layout(push_constant) uniform Push {
   DrawParams d;
 };
 layout(location = 0) out vec4 color;
 
 void main() {
-  Particle q = particles[gl_VertexIndex >> 1];
+  int i = gl_VertexIndex >> 1;
+  Particle q = Particle(texelFetch(particles, 2 * i), texelFetch(particles, 2 * i + 1));
   if (q.posAge.w < 0.0) {
     gl_Position = kNowhere;  // never-emitted slots draw nothing
     color = vec4(0.0);

@@ -1,5 +1,5 @@
 // LineRenderer: each alive particle's line, by the graphics pipeline (lines.vert pulls both
-// ends from the particle buffer as a LINE_LIST) or by the splat (splat.comp adds every line
+// ends from the particle buffer, through its texel view, as a LINE_LIST) or by the splat (splat.comp adds every line
 // into fixed-point planes the size of the target and marks the tiles it added to;
 // resolve.vert/.frag put the marked tiles over the scene);
 // in the lava look, then the glow (glow.comp over cells of the screen, glow.vert/.frag over
@@ -86,7 +86,7 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_
   Impl& m = *impl_;
   const detail::DeviceContext& c = m.c;
   const VkShaderStageFlags drawStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-  m.lineSet = detail::createPushLayout(c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+  m.lineSet = detail::createPushLayout(c, {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
                                        VK_SHADER_STAGE_VERTEX_BIT);
   m.lineLayout = detail::createPipelineLayout(c, m.lineSet, drawStages, sizeof(gpu::DrawParams));
   detail::GraphicsPipelineDesc lines{LAVA_SPIRV(spirv::kLinesVertSpv),
@@ -432,8 +432,7 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
                             sizeof(params), &params);
     for (const ParticleChunk& chunk : simulation.chunks()) {
       detail::PushDescriptors()
-          .buffer(gpu::kParticleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, chunk.buffer, 0,
-                  VkDeviceSize{chunk.count} * sizeof(Particle))
+          .texels(gpu::kParticleBinding, chunk.texels)
           .push(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.lineLayout);
       m.c.vk.CmdDraw(commands, 2 * chunk.count, 1, 0, 0);
     }
