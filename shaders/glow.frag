@@ -10,9 +10,8 @@ layout(location = 0) out vec4 outColor;
 #include "shared.h"
 #include "lava_color.glsl"
 
-layout(std430, binding = kGlowDrawSumsBinding) restrict readonly buffer Accumulation {
-  uint accumulation[];
-};
+#define LAVA_SUMS_BINDING kGlowDrawSumsBinding
+#include "splat_sums.glsl"
 layout(push_constant) uniform Push {
   GlowParams g;
 };
@@ -21,7 +20,7 @@ layout(push_constant) uniform Push {
 void main() {
 #if LAVA_GLOW_RESOLVE
   uvec2 p = uvec2(gl_FragCoord.xy);
-  uint sum = accumulation[splatIndex(p.x, p.y, g.target.x)];
+  uint sum = splatSumAt(splatIndex(p.x, p.y, g.target.x));
   vec3 lines = sum == 0u ? vec3(0.0) : lavaSplatColor(sum, g.glow.z);
   outColor = vec4(lines + color - lines * color, 1.0);
 #else

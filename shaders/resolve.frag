@@ -6,9 +6,8 @@
 #include "shared.h"
 #include "lava_color.glsl"
 
-layout(std430, binding = kResolveSumsBinding) restrict readonly buffer Accumulation {
-  uint accumulation[];
-};
+#define LAVA_SUMS_BINDING kResolveSumsBinding
+#include "splat_sums.glsl"
 layout(push_constant) uniform Push {
   SplatParams s;
 };
@@ -17,7 +16,7 @@ layout(location = 0) out vec4 outColor;
 void main() {
   uvec2 p = uvec2(gl_FragCoord.xy);
   uint at = splatIndex(p.x, p.y, s.target.x);
-  uint sum = accumulation[at];
+  uint sum = splatSumAt(at);
   if (sum == 0u) discard;
   vec2 rg = splatSums(sum);
   outColor = s.style.w == kLookLava ? vec4(lavaSplatColor(sum, s.look.x), 1.0)

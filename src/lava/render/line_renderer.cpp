@@ -1,7 +1,7 @@
 // LineRenderer: each alive particle's line, by the graphics pipeline (lines.vert pulls both
-// ends from the particle buffer, through its texel view, as a LINE_LIST) or by the splat (splat.comp adds every line
-// into fixed-point planes the size of the target and marks the tiles it added to;
-// resolve.vert/.frag put the marked tiles over the scene);
+// ends from the particle buffer, through its texel view, as a LINE_LIST) or by the splat
+// (splat.comp adds every line into fixed-point planes the size of the target and marks the
+// tiles it added to; resolve.vert/.frag put the marked tiles over the scene);
 // in the lava look, then the glow (glow.comp over cells of the screen, glow.vert/.frag over
 // the lit cells only).
 //
@@ -58,15 +58,29 @@ struct LineRenderer::Impl {
   detail::UniquePipeline glowSplat, glowLight;
   detail::UniquePipeline glowLightResolve;  // lists the quads over the splat's marked tiles too
   detail::Image noDepth;  // 1x1, bound when the splat is given no scene depth
+  // Whether the draws read the splat's sums through a texel view (setExtent: where the
+  // target's sums fit in one) or as a storage buffer; the pipelines above that read them
+  // (and the glow's, which shares their layout) are built for one or the other.
+  bool sumsAsTexels = false;
   VkExtent2D extent{0, 0};
   glm::uvec2 grid{0, 0};             // glow cells across and down
   glm::uvec2 tiles{0, 0};            // resolve tiles across and down
   std::vector<Buffer> accumulation;  // per frame slot: the splat's sums
+  std::vector<detail::UniqueBufferView> accumulationTexels;  // their views, if sumsAsTexels
   std::vector<Buffer> marks;         // per frame slot: the resolve tiles lines were added to
   std::vector<GlowSlot> glow;
 
   Impl(detail::DeviceContext& context, const RenderFormats& f, uint32_t frames)
       : c(context), formats(f), framesInFlight(frames) {}
+
+  void createDraws(bool texels);
+  // Slot `frame`'s sums, bound at `binding` as the draws read them.
+  detail::PushDescriptors& sums(detail::PushDescriptors& d, uint32_t binding,
+                                uint32_t frame) const {
+    return sumsAsTexels
+               ? d.texels(binding, accumulationTexels[frame])
+               : d.buffer(binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, accumulation[frame].get());
+  }
 
   void recordSplat(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
                    const View& view, VkImageView depth) const;
@@ -113,21 +127,6 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_
       c, m.splatLayout,
       c.handles.int64Atomics ? LAVA_SPIRV(spirv::kSplatPairsSpv) : LAVA_SPIRV(spirv::kSplatCompSpv),
       {gpu::kWorkgroupSize});
-  m.resolveSet = detail::createPushLayout(
-      c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, drawStages);
-  m.resolveLayout =
-      detail::createPipelineLayout(c, m.resolveSet, drawStages, sizeof(gpu::SplatParams));
-  detail::GraphicsPipelineDesc resolve{LAVA_SPIRV(spirv::kResolveVertSpv),
-                                       LAVA_SPIRV(spirv::kResolveFragSpv), formats.color,
-                                       formats.depth};
-  resolve.additive = true;
-  resolve.depthTest = false;
-  resolve.depthWrite = false;
-  m.plainResolve = detail::createGraphicsPipeline(c, m.resolveLayout, resolve);
-  resolve.additive = false;
-  resolve.screen = true;
-  m.lavaResolve = detail::createGraphicsPipeline(c, m.resolveLayout, resolve);
-
   m.glowSet = detail::createPushLayout(
       c,
       {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
@@ -142,22 +141,6 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_
                                               {gpu::kWorkgroupSize, VK_FALSE});
   m.glowLightResolve = detail::createComputePipeline(
       c, m.glowLayout, LAVA_SPIRV(spirv::kGlowLightSpv), {gpu::kWorkgroupSize, VK_TRUE});
-  m.glowDrawSet = detail::createPushLayout(
-      c,
-      {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-       VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-      drawStages);
-  m.glowDrawLayout =
-      detail::createPipelineLayout(c, m.glowDrawSet, drawStages, sizeof(gpu::GlowParams));
-  detail::GraphicsPipelineDesc glowDraw{LAVA_SPIRV(spirv::kGlowVertSpv),
-                                        LAVA_SPIRV(spirv::kGlowFragSpv), formats.color,
-                                        formats.depth};
-  glowDraw.screen = true;
-  glowDraw.depthTest = false;
-  glowDraw.depthWrite = false;
-  m.glowDraw = detail::createGraphicsPipeline(c, m.glowDrawLayout, glowDraw);
-  glowDraw.frag = LAVA_SPIRV(spirv::kGlowResolveFragSpv);
-  m.glowResolve = detail::createGraphicsPipeline(c, m.glowDrawLayout, glowDraw);
 
   m.noDepth = detail::createImage(
       c, {1, 1}, VK_FORMAT_D32_SFLOAT,
@@ -203,11 +186,50 @@ const LookSettings& LineRenderer::settings() const {
   return impl_->settings;
 }
 
+// The draws that read the splat's sums (the resolve; the glow's quads, which may resolve
+// them too), for sums read through a texel view or as a storage buffer.
+void LineRenderer::Impl::createDraws(bool texels) {
+  const VkShaderStageFlags drawStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+  const VkDescriptorType sumsType =
+      texels ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  resolveSet =
+      detail::createPushLayout(c, {sumsType, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, drawStages);
+  resolveLayout = detail::createPipelineLayout(c, resolveSet, drawStages, sizeof(gpu::SplatParams));
+  detail::GraphicsPipelineDesc resolve{
+      LAVA_SPIRV(spirv::kResolveVertSpv),
+      texels ? LAVA_SPIRV(spirv::kResolveFragSpv) : LAVA_SPIRV(spirv::kResolveBufferFragSpv),
+      formats.color, formats.depth};
+  resolve.additive = true;
+  resolve.depthTest = false;
+  resolve.depthWrite = false;
+  plainResolve = detail::createGraphicsPipeline(c, resolveLayout, resolve);
+  resolve.additive = false;
+  resolve.screen = true;
+  lavaResolve = detail::createGraphicsPipeline(c, resolveLayout, resolve);
+
+  glowDrawSet = detail::createPushLayout(
+      c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, sumsType},
+      drawStages);
+  glowDrawLayout =
+      detail::createPipelineLayout(c, glowDrawSet, drawStages, sizeof(gpu::GlowParams));
+  detail::GraphicsPipelineDesc quads{LAVA_SPIRV(spirv::kGlowVertSpv),
+                                     LAVA_SPIRV(spirv::kGlowFragSpv), formats.color, formats.depth};
+  quads.screen = true;
+  quads.depthTest = false;
+  quads.depthWrite = false;
+  glowDraw = detail::createGraphicsPipeline(c, glowDrawLayout, quads);
+  quads.frag = texels ? LAVA_SPIRV(spirv::kGlowResolveFragSpv)
+                      : LAVA_SPIRV(spirv::kGlowResolveBufferFragSpv);
+  glowResolve = detail::createGraphicsPipeline(c, glowDrawLayout, quads);
+  sumsAsTexels = texels;
+}
+
 void LineRenderer::setExtent(VkExtent2D extent) {
   Impl& m = *impl_;
   if (extent.width == m.extent.width && extent.height == m.extent.height) return;
   if (extent.width == 0 || extent.height == 0)
     throw InvalidArgument("extent", "expected a non-empty size");
+  m.accumulationTexels.clear();
   m.accumulation.clear();
   m.marks.clear();
   m.glow.clear();
@@ -216,14 +238,23 @@ void LineRenderer::setExtent(VkExtent2D extent) {
   const VkDeviceSize cells = VkDeviceSize{m.grid.x} * m.grid.y;
   m.tiles = {detail::groupCount(extent.width, gpu::kResolveTile),
              detail::groupCount(extent.height, gpu::kResolveTile)};
+  const VkDeviceSize sums = VkDeviceSize{detail::groupCount(extent.width, gpu::kSplatBlockWidth)} *
+                            detail::groupCount(extent.height, gpu::kSplatBlockHeight) *
+                            gpu::kSplatBlockWidth * gpu::kSplatBlockHeight;
+  // The draws read the sums through a texel view where one holds them (on llvmpipe a
+  // gather, where a storage-buffer load is a loop over the lanes: 262,144 particles ran
+  // ~1.09x faster so); 720p needs 921,600 texels, more than the spec's minimum of 65,536.
+  const bool texels = sums <= m.c.limits.maxTexelBufferElements;
+  if (!m.plainResolve || texels != m.sumsAsTexels) m.createDraws(texels);
   const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   for (uint32_t f = 0; f < m.framesInFlight; ++f) {
-    m.accumulation.emplace_back(
-        m.c,
-        VkDeviceSize{detail::groupCount(extent.width, gpu::kSplatBlockWidth)} *
-            detail::groupCount(extent.height, gpu::kSplatBlockHeight) * gpu::kSplatBlockWidth *
-            gpu::kSplatBlockHeight * sizeof(uint32_t),
-        storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, detail::MemoryUse::Device);
+    m.accumulation.emplace_back(m.c, sums * sizeof(uint32_t),
+                                storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                                    (texels ? VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT : 0),
+                                detail::MemoryUse::Device);
+    if (texels)
+      m.accumulationTexels.push_back(detail::createTexelView(m.c, m.accumulation.back().get(),
+                                                             VK_WHOLE_SIZE, VK_FORMAT_R32_UINT));
     m.marks.emplace_back(m.c, VkDeviceSize{m.tiles.x} * m.tiles.y * sizeof(uint32_t),
                          storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, detail::MemoryUse::Device);
     GlowSlot g;
@@ -440,11 +471,9 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
     const gpu::SplatParams params = splatParams(simulation, view, m.style, m.settings);
     m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
                            lava ? m.lavaResolve : m.plainResolve);
-    detail::PushDescriptors()
-        .buffer(gpu::kResolveSumsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                m.accumulation[frame].get())
-        .buffer(gpu::kResolveMarksBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                m.marks[frame].get())
+    detail::PushDescriptors descriptors;
+    m.sums(descriptors, gpu::kResolveSumsBinding, frame)
+        .buffer(gpu::kResolveMarksBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m.marks[frame].get())
         .push(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.resolveLayout);
     m.c.vk.CmdPushConstants(commands, m.resolveLayout,
                             VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
@@ -459,9 +488,7 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
   detail::PushDescriptors descriptors;
   descriptors.buffer(gpu::kGlowDrawListBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.list.get())
       .texels(gpu::kGlowDrawLightBinding, g.lightTexels);
-  if (splat)
-    descriptors.buffer(gpu::kGlowDrawSumsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                       m.accumulation[frame].get());
+  if (splat) m.sums(descriptors, gpu::kGlowDrawSumsBinding, frame);
   descriptors.push(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.glowDrawLayout);
   m.c.vk.CmdPushConstants(commands, m.glowDrawLayout,
                           VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
