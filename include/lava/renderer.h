@@ -61,9 +61,11 @@ class LAVA_API LineRenderer {
   LookStyle style() const;
   void setSettings(const LookSettings& settings);
   const LookSettings& settings() const;
-  // Not a recording call: sizes the splat's per-frame buffers for targets of `extent`
-  // (allocates; call it before recording for a new size, when no frame using the old
-  // buffers is pending). recordPrepare() requires view.extent == the last setExtent().
+  // Not a recording call: sizes the splat's and the glow's per-frame buffers for targets
+  // of `extent` (allocates, and builds the pipelines that read the splat's sums on the
+  // first call or when the sums outgrow the device's texel views; call it before recording
+  // for a new size, when no frame using the old buffers is pending). recordPrepare()
+  // requires view.extent == the last setExtent().
   void setExtent(VkExtent2D extent);
 
   // Outside rendering, after the simulation's recordSimulate():
