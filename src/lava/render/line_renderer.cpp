@@ -34,6 +34,9 @@ constexpr float kShortestLine = 1.25f;  // px: lava at rest stays visible
 // Particles the glow adds per frame at most: beyond, every stride-th, its energy times the
 // stride (the glow is a blur; a sample of its sources is enough).
 constexpr uint32_t kGlowSamples = 16384;
+// The stages of the draws' layouts and push constants.
+constexpr VkShaderStageFlags kDrawStages =
+    VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
 
 // Per frame slot, what the glow passes write.
 struct GlowSlot {
@@ -99,10 +102,9 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_
                           "expected 1 to 16, got " + std::to_string(framesInFlight));
   Impl& m = *impl_;
   const detail::DeviceContext& c = m.c;
-  const VkShaderStageFlags drawStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
   m.lineSet = detail::createPushLayout(c, {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
                                        VK_SHADER_STAGE_VERTEX_BIT);
-  m.lineLayout = detail::createPipelineLayout(c, m.lineSet, drawStages, sizeof(gpu::DrawParams));
+  m.lineLayout = detail::createPipelineLayout(c, m.lineSet, kDrawStages, sizeof(gpu::DrawParams));
   detail::GraphicsPipelineDesc lines{LAVA_SPIRV(spirv::kLinesVertSpv),
                                      LAVA_SPIRV(spirv::kLinesFragSpv), formats.color,
                                      formats.depth};
@@ -189,12 +191,12 @@ const LookSettings& LineRenderer::settings() const {
 // The draws that read the splat's sums (the resolve; the glow's quads, which may resolve
 // them too), for sums read through a texel view or as a storage buffer.
 void LineRenderer::Impl::createDraws(bool texels) {
-  const VkShaderStageFlags drawStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
   const VkDescriptorType sumsType =
       texels ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   resolveSet =
-      detail::createPushLayout(c, {sumsType, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, drawStages);
-  resolveLayout = detail::createPipelineLayout(c, resolveSet, drawStages, sizeof(gpu::SplatParams));
+      detail::createPushLayout(c, {sumsType, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, kDrawStages);
+  resolveLayout =
+      detail::createPipelineLayout(c, resolveSet, kDrawStages, sizeof(gpu::SplatParams));
   detail::GraphicsPipelineDesc resolve{
       LAVA_SPIRV(spirv::kResolveVertSpv),
       texels ? LAVA_SPIRV(spirv::kResolveFragSpv) : LAVA_SPIRV(spirv::kResolveBufferFragSpv),
@@ -209,9 +211,9 @@ void LineRenderer::Impl::createDraws(bool texels) {
 
   glowDrawSet = detail::createPushLayout(
       c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, sumsType},
-      drawStages);
+      kDrawStages);
   glowDrawLayout =
-      detail::createPipelineLayout(c, glowDrawSet, drawStages, sizeof(gpu::GlowParams));
+      detail::createPipelineLayout(c, glowDrawSet, kDrawStages, sizeof(gpu::GlowParams));
   detail::GraphicsPipelineDesc quads{LAVA_SPIRV(spirv::kGlowVertSpv),
                                      LAVA_SPIRV(spirv::kGlowFragSpv), formats.color, formats.depth};
   quads.screen = true;
@@ -458,9 +460,7 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
                      kShortestLine};
     m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
                            lava ? m.lavaLines : m.plainLines);
-    m.c.vk.CmdPushConstants(commands, m.lineLayout,
-                            VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                            sizeof(params), &params);
+    m.c.vk.CmdPushConstants(commands, m.lineLayout, kDrawStages, 0, sizeof(params), &params);
     for (const ParticleChunk& chunk : simulation.chunks()) {
       detail::PushDescriptors()
           .texels(gpu::kParticleBinding, chunk.texels)
@@ -475,9 +475,7 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
     m.sums(descriptors, gpu::kResolveSumsBinding, frame)
         .buffer(gpu::kResolveMarksBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m.marks[frame].get())
         .push(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.resolveLayout);
-    m.c.vk.CmdPushConstants(commands, m.resolveLayout,
-                            VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                            sizeof(params), &params);
+    m.c.vk.CmdPushConstants(commands, m.resolveLayout, kDrawStages, 0, sizeof(params), &params);
     m.c.vk.CmdDraw(commands, 6 * m.tiles.x * m.tiles.y, 1, 0, 0);
   }
   if (!glow) return;
@@ -490,9 +488,7 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
       .texels(gpu::kGlowDrawLightBinding, g.lightTexels);
   if (splat) m.sums(descriptors, gpu::kGlowDrawSumsBinding, frame);
   descriptors.push(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.glowDrawLayout);
-  m.c.vk.CmdPushConstants(commands, m.glowDrawLayout,
-                          VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                          sizeof(params), &params);
+  m.c.vk.CmdPushConstants(commands, m.glowDrawLayout, kDrawStages, 0, sizeof(params), &params);
   m.c.vk.CmdDrawIndirect(commands, g.list.get(), 0, 1, sizeof(VkDrawIndirectCommand));
 }
 
