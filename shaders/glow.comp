@@ -32,7 +32,12 @@ layout(std430, binding = kGlowListBinding) restrict buffer List {
   uint firstInstance;
   uint quads[];  // the quads to draw
 };
+#ifndef LAVA_GLOW_TEXELS
+#define LAVA_GLOW_TEXELS 1
+#endif
+#if LAVA_GLOW_TEXELS
 layout(binding = kGlowSumTexelsBinding) uniform usamplerBuffer sumTexels;  // the sums again, RG
+#endif
 #if LAVA_GLOW_LIGHT
 layout(constant_id = 1) const bool kResolves = false;
 layout(std430, binding = kGlowMarksBinding) restrict readonly buffer Marks {
@@ -94,9 +99,15 @@ bool onGrid(ivec2 c) {
 vec2 thresholded(ivec2 c) {
   if (!onGrid(c)) return vec2(0.0);
   // Read as texels, a cell's two sums in one: on llvmpipe a gather, where a storage-buffer
-  // load is a loop over lanes; these fetches are most of the light pass's cost there.
-  vec2 e = vec2(texelFetch(sumTexels, c.y * int(g.grid.x) + c.x).rg) *
-           (1.0 / (kFixed * float(kGlowCell * kGlowCell)));
+  // load is a loop over lanes; these fetches are most of the light pass's cost there. Built
+  // without LAVA_GLOW_TEXELS (where a texel view cannot hold the cells), from the buffer.
+  int cell = c.y * int(g.grid.x) + c.x;
+#if LAVA_GLOW_TEXELS
+  uvec2 fixedPoint = texelFetch(sumTexels, cell).rg;
+#else
+  uvec2 fixedPoint = uvec2(sums[2 * cell], sums[2 * cell + 1]);
+#endif
+  vec2 e = vec2(fixedPoint) * (1.0 / (kFixed * float(kGlowCell * kGlowCell)));
   float peak = max(e.r, e.g);
   return peak > g.glow.x ? e * ((peak - g.glow.x) / peak) : vec2(0.0);
 }

@@ -10,7 +10,26 @@ layout(std430, binding = kGlowDrawListBinding) restrict readonly buffer List {
   uint command[4];
   uint quads[];
 };
-layout(binding = kGlowDrawLightBinding) uniform samplerBuffer light;  // RG32F per cell
+// The light, one RG32F texel a cell; built without LAVA_GLOW_TEXELS (where a texel view
+// cannot hold the cells), the storage buffer glow.comp wrote.
+#ifndef LAVA_GLOW_TEXELS
+#define LAVA_GLOW_TEXELS 1
+#endif
+#if LAVA_GLOW_TEXELS
+layout(binding = kGlowDrawLightBinding) uniform samplerBuffer light;
+
+vec2 lightAt(int cell) {
+  return texelFetch(light, cell).rg;
+}
+#else
+layout(std430, binding = kGlowDrawLightBinding) restrict readonly buffer Light {
+  vec2 light[];
+};
+
+vec2 lightAt(int cell) {
+  return light[cell];
+}
+#endif
 layout(push_constant) uniform Push {
   GlowParams g;
 };
@@ -24,7 +43,7 @@ void main() {
   // Corner k of the dual grid is the centre of cell k - 1 (clamped: the edges' half cells).
   vec2 pixel = clamp((vec2(corner) - 0.5) * float(kGlowCell), vec2(0.0), vec2(g.target.xy));
   ivec2 cell = clamp(ivec2(corner) - 1, ivec2(0), ivec2(g.grid.xy) - 1);
-  vec2 e = texelFetch(light, cell.y * int(g.grid.x) + cell.x).rg;
+  vec2 e = lightAt(cell.y * int(g.grid.x) + cell.x);
   color = lavaToneMap(lavaEnergy(e) * g.glow.z);
   gl_Position = vec4(pixel / vec2(g.target.xy) * 2.0 - 1.0, 0.0, 1.0);
 }

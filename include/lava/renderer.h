@@ -42,9 +42,9 @@ enum class LineMode { Lines, Splat };
 enum class LookStyle { Lava, Plain };
 
 struct LookSettings {
-  float exposure = 1.0f;    // scales the lava's energy before the tone map, (0, 16]
-  float bloom = 1.0f;       // strength of the glow around bright lava, [0, 4] (0: none)
-  float threshold = 0.1f;   // energy per pixel (of a 16x16 cell) below which nothing glows
+  float exposure = 1.0f;   // scales the lava's energy before the tone map, (0, 16]
+  float bloom = 1.0f;      // strength of the glow around bright lava, [0, 4] (0: none)
+  float threshold = 0.1f;  // energy per pixel (of a 16x16 cell) below which nothing glows
 };
 
 class LAVA_API LineRenderer {
@@ -62,8 +62,9 @@ class LAVA_API LineRenderer {
   void setSettings(const LookSettings& settings);
   const LookSettings& settings() const;
   // Not a recording call: sizes the splat's and the glow's per-frame buffers for targets
-  // of `extent` (allocates, and builds the pipelines that read the splat's sums on the
-  // first call or when the sums outgrow the device's texel views; call it before recording
+  // of `extent` (allocates, and builds the pipelines that read the splat's sums and the
+  // glow's cells on the first call or when either outgrows the device's texel views, which
+  // the spec lets hold as few as 65,536 texels; call it before recording
   // for a new size, when no frame using the old buffers is pending). recordPrepare()
   // requires view.extent == the last setExtent().
   void setExtent(VkExtent2D extent);

@@ -41,7 +41,7 @@ constexpr VkShaderStageFlags kDrawStages =
 // Per frame slot, what the glow passes write.
 struct GlowSlot {
   Buffer sums, light, list;
-  detail::UniqueBufferView lightTexels, sumTexels;
+  detail::UniqueBufferView lightTexels, sumTexels;  // if cellsAsTexels
 };
 
 }  // namespace
@@ -60,23 +60,26 @@ struct LineRenderer::Impl {
   detail::UniquePipeline glowResolve;  // the glow's quads resolving the splat's sums too
   detail::UniquePipeline glowSplat, glowLight;
   detail::UniquePipeline glowLightResolve;  // lists the quads over the splat's marked tiles too
-  detail::Image noDepth;  // 1x1, bound when the splat is given no scene depth
+  detail::Image noDepth;                    // 1x1, bound when the splat is given no scene depth
   // Whether the draws read the splat's sums through a texel view (setExtent: where the
-  // target's sums fit in one) or as a storage buffer; the pipelines above that read them
-  // (and the glow's, which shares their layout) are built for one or the other.
+  // target's sums fit in one) or as a storage buffer, and the same for the glow's cells
+  // (the light pass reads their sums, the quads their light); createSizedPipelines builds
+  // the pipelines that read them (and the glow's quads without the sums, which share their
+  // layout) for one or the other.
   bool sumsAsTexels = false;
+  bool cellsAsTexels = false;
   VkExtent2D extent{0, 0};
-  glm::uvec2 grid{0, 0};             // glow cells across and down
-  glm::uvec2 tiles{0, 0};            // resolve tiles across and down
-  std::vector<Buffer> accumulation;  // per frame slot: the splat's sums
+  glm::uvec2 grid{0, 0};                                     // glow cells across and down
+  glm::uvec2 tiles{0, 0};                                    // resolve tiles across and down
+  std::vector<Buffer> accumulation;                          // per frame slot: the splat's sums
   std::vector<detail::UniqueBufferView> accumulationTexels;  // their views, if sumsAsTexels
-  std::vector<Buffer> marks;         // per frame slot: the resolve tiles lines were added to
+  std::vector<Buffer> marks;  // per frame slot: the resolve tiles lines were added to
   std::vector<GlowSlot> glow;
 
   Impl(detail::DeviceContext& context, const RenderFormats& f, uint32_t frames)
       : c(context), formats(f), framesInFlight(frames) {}
 
-  void createDraws(bool texels);
+  void createSizedPipelines(bool sumsTexels, bool cellsTexels);
   // Slot `frame`'s sums, bound at `binding` as the draws read them.
   detail::PushDescriptors& sums(detail::PushDescriptors& d, uint32_t binding,
                                 uint32_t frame) const {
@@ -139,15 +142,11 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_
                                               sizeof(gpu::GlowParams));
   m.glowSplat = detail::createComputePipeline(c, m.glowLayout, LAVA_SPIRV(spirv::kGlowSplatSpv),
                                               {gpu::kWorkgroupSize});
-  m.glowLight = detail::createComputePipeline(c, m.glowLayout, LAVA_SPIRV(spirv::kGlowLightSpv),
-                                              {gpu::kWorkgroupSize, VK_FALSE});
-  m.glowLightResolve = detail::createComputePipeline(
-      c, m.glowLayout, LAVA_SPIRV(spirv::kGlowLightSpv), {gpu::kWorkgroupSize, VK_TRUE});
 
-  m.noDepth = detail::createImage(
-      c, {1, 1}, VK_FORMAT_D32_SFLOAT,
-      VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-      VK_IMAGE_ASPECT_DEPTH_BIT);
+  m.noDepth =
+      detail::createImage(c, {1, 1}, VK_FORMAT_D32_SFLOAT,
+                          VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                          VK_IMAGE_ASPECT_DEPTH_BIT);
   c.submitNow([&](VkCommandBuffer commands) {
     detail::imageBarrier(c, commands, m.noDepth.image, VK_IMAGE_ASPECT_DEPTH_BIT,
                          VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL,
@@ -188,18 +187,19 @@ const LookSettings& LineRenderer::settings() const {
   return impl_->settings;
 }
 
-// The draws that read the splat's sums (the resolve; the glow's quads, which may resolve
-// them too), for sums read through a texel view or as a storage buffer.
-void LineRenderer::Impl::createDraws(bool texels) {
+// The pipelines that read the splat's sums (the resolve; the glow's quads, which may resolve
+// them too) or the glow's cells (its light pass, its quads), for each read through a texel
+// view or as a storage buffer.
+void LineRenderer::Impl::createSizedPipelines(bool sumsTexels, bool cellsTexels) {
   const VkDescriptorType sumsType =
-      texels ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      sumsTexels ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   resolveSet =
       detail::createPushLayout(c, {sumsType, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, kDrawStages);
   resolveLayout =
       detail::createPipelineLayout(c, resolveSet, kDrawStages, sizeof(gpu::SplatParams));
   detail::GraphicsPipelineDesc resolve{
       LAVA_SPIRV(spirv::kResolveVertSpv),
-      texels ? LAVA_SPIRV(spirv::kResolveFragSpv) : LAVA_SPIRV(spirv::kResolveBufferFragSpv),
+      sumsTexels ? LAVA_SPIRV(spirv::kResolveFragSpv) : LAVA_SPIRV(spirv::kResolveBufferFragSpv),
       formats.color, formats.depth};
   resolve.additive = true;
   resolve.depthTest = false;
@@ -210,20 +210,31 @@ void LineRenderer::Impl::createDraws(bool texels) {
   lavaResolve = detail::createGraphicsPipeline(c, resolveLayout, resolve);
 
   glowDrawSet = detail::createPushLayout(
-      c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, sumsType},
+      c,
+      {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+       cellsTexels ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+       sumsType},
       kDrawStages);
   glowDrawLayout =
       detail::createPipelineLayout(c, glowDrawSet, kDrawStages, sizeof(gpu::GlowParams));
-  detail::GraphicsPipelineDesc quads{LAVA_SPIRV(spirv::kGlowVertSpv),
-                                     LAVA_SPIRV(spirv::kGlowFragSpv), formats.color, formats.depth};
+  detail::GraphicsPipelineDesc quads{
+      cellsTexels ? LAVA_SPIRV(spirv::kGlowVertSpv) : LAVA_SPIRV(spirv::kGlowVertBufferSpv),
+      LAVA_SPIRV(spirv::kGlowFragSpv), formats.color, formats.depth};
   quads.screen = true;
   quads.depthTest = false;
   quads.depthWrite = false;
   glowDraw = detail::createGraphicsPipeline(c, glowDrawLayout, quads);
-  quads.frag = texels ? LAVA_SPIRV(spirv::kGlowResolveFragSpv)
-                      : LAVA_SPIRV(spirv::kGlowResolveBufferFragSpv);
+  quads.frag = sumsTexels ? LAVA_SPIRV(spirv::kGlowResolveFragSpv)
+                          : LAVA_SPIRV(spirv::kGlowResolveBufferFragSpv);
   glowResolve = detail::createGraphicsPipeline(c, glowDrawLayout, quads);
-  sumsAsTexels = texels;
+  sumsAsTexels = sumsTexels;
+
+  const detail::Spirv light =
+      cellsTexels ? LAVA_SPIRV(spirv::kGlowLightSpv) : LAVA_SPIRV(spirv::kGlowLightBufferSpv);
+  glowLight = detail::createComputePipeline(c, glowLayout, light, {gpu::kWorkgroupSize, VK_FALSE});
+  glowLightResolve =
+      detail::createComputePipeline(c, glowLayout, light, {gpu::kWorkgroupSize, VK_TRUE});
+  cellsAsTexels = cellsTexels;
 }
 
 void LineRenderer::setExtent(VkExtent2D extent) {
@@ -247,7 +258,10 @@ void LineRenderer::setExtent(VkExtent2D extent) {
   // gather, where a storage-buffer load is a loop over the lanes: 262,144 particles ran
   // ~1.09x faster so); 720p needs 921,600 texels, more than the spec's minimum of 65,536.
   const bool texels = sums <= m.c.limits.maxTexelBufferElements;
-  if (!m.plainResolve || texels != m.sumsAsTexels) m.createDraws(texels);
+  // The glow's cells the same (the minimum holds 4K's 32,400 cells, not 8K's 129,600).
+  const bool cellTexels = cells <= m.c.limits.maxTexelBufferElements;
+  if (!m.plainResolve || texels != m.sumsAsTexels || cellTexels != m.cellsAsTexels)
+    m.createSizedPipelines(texels, cellTexels);
   const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   for (uint32_t f = 0; f < m.framesInFlight; ++f) {
     m.accumulation.emplace_back(m.c, sums * sizeof(uint32_t),
@@ -260,20 +274,22 @@ void LineRenderer::setExtent(VkExtent2D extent) {
     m.marks.emplace_back(m.c, VkDeviceSize{m.tiles.x} * m.tiles.y * sizeof(uint32_t),
                          storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, detail::MemoryUse::Device);
     GlowSlot g;
-    g.sums = Buffer(m.c, 2 * cells * sizeof(uint32_t),
-                    storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
-                        VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+    const VkBufferUsageFlags cellUse =
+        storage | (cellTexels ? VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT : 0);
+    g.sums = Buffer(m.c, 2 * cells * sizeof(uint32_t), cellUse | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                     detail::MemoryUse::Device);
-    g.sumTexels =
-        detail::createTexelView(m.c, g.sums.get(), VK_WHOLE_SIZE, VK_FORMAT_R32G32_UINT);
-    g.light = Buffer(m.c, cells * 2 * sizeof(float),
-                     storage | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, detail::MemoryUse::Device);
-    g.lightTexels =
-        detail::createTexelView(m.c, g.light.get(), VK_WHOLE_SIZE, VK_FORMAT_R32G32_SFLOAT);
+    g.light = Buffer(m.c, cells * 2 * sizeof(float), cellUse, detail::MemoryUse::Device);
+    if (cellTexels) {
+      g.sumTexels =
+          detail::createTexelView(m.c, g.sums.get(), VK_WHOLE_SIZE, VK_FORMAT_R32G32_UINT);
+      g.lightTexels =
+          detail::createTexelView(m.c, g.light.get(), VK_WHOLE_SIZE, VK_FORMAT_R32G32_SFLOAT);
+    }
     const VkDeviceSize quads = VkDeviceSize{m.grid.x + 1} * (m.grid.y + 1);
-    g.list = Buffer(m.c, 16 + quads * sizeof(uint32_t),
-                    storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                    detail::MemoryUse::Device);
+    g.list =
+        Buffer(m.c, 16 + quads * sizeof(uint32_t),
+               storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+               detail::MemoryUse::Device);
     m.glow.push_back(std::move(g));
   }
   // A frame's draw may come before any prepare has listed its quads: no quads yet.
@@ -340,24 +356,25 @@ void LineRenderer::Impl::recordSplat(VkCommandBuffer commands, uint32_t frame,
 }
 
 // glow.comp's bindings (both passes: `particles` is the splat's chunk) and parameters.
-void LineRenderer::Impl::bindGlow(VkCommandBuffer commands, uint32_t frame,
-                                  VkBufferView particles, const gpu::GlowParams& params) const {
+void LineRenderer::Impl::bindGlow(VkCommandBuffer commands, uint32_t frame, VkBufferView particles,
+                                  const gpu::GlowParams& params) const {
   const GlowSlot& g = glow[frame];
-  detail::PushDescriptors()
-      .texels(gpu::kGlowParticlesBinding, particles)
+  detail::PushDescriptors descriptors;
+  descriptors.texels(gpu::kGlowParticlesBinding, particles)
       .buffer(gpu::kGlowSumsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.sums.get())
       .buffer(gpu::kGlowLightBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.light.get())
       .buffer(gpu::kGlowListBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.list.get())
-      .texels(gpu::kGlowSumTexelsBinding, g.sumTexels)
-      .buffer(gpu::kGlowMarksBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, marks[frame].get())
-      .push(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowLayout);
+      .buffer(gpu::kGlowMarksBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, marks[frame].get());
+  // Without texel views of the cells the light pass reads the sums' buffer (binding 1) and
+  // no module uses this binding.
+  if (cellsAsTexels) descriptors.texels(gpu::kGlowSumTexelsBinding, g.sumTexels);
+  descriptors.push(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowLayout);
   c.vk.CmdPushConstants(commands, glowLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
                         &params);
 }
 
 void LineRenderer::Impl::recordGlow(VkCommandBuffer commands, uint32_t frame,
-                                    const GpuSimulation& simulation,
-                                    gpu::GlowParams params) const {
+                                    const GpuSimulation& simulation, gpu::GlowParams params) const {
   c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowSplat);  // sums cleared
   const uint32_t stride = params.grid.w;
   params.target.z = 1;  // the first chunk's splat resets the list
@@ -369,9 +386,9 @@ void LineRenderer::Impl::recordGlow(VkCommandBuffer commands, uint32_t frame,
     params.grid.z = chunk.count;
     bindGlow(commands, frame, chunk.texels, params);
     c.vk.CmdDispatch(
-        commands, detail::groupCount((uint64_t{chunk.count} + stride - 1) / stride,
-                                     gpu::kWorkgroupSize),
-        1, 1);
+        commands,
+        detail::groupCount((uint64_t{chunk.count} + stride - 1) / stride, gpu::kWorkgroupSize), 1,
+        1);
     params.target.z = 0;
   }
 }
@@ -393,23 +410,22 @@ void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
   checkFrame(frame, m.framesInFlight);
   const bool splat = m.mode == LineMode::Splat;
   const bool glow = m.style == LookStyle::Lava && m.settings.bloom > 0.0f;
-  if ((splat || glow) && (view.extent.width != m.extent.width ||
-                          view.extent.height != m.extent.height))
+  if ((splat || glow) &&
+      (view.extent.width != m.extent.width || view.extent.height != m.extent.height))
     throw InvalidArgument("view.extent", "differs from the renderer's setExtent() (" +
                                              std::to_string(m.extent.width) + "x" +
                                              std::to_string(m.extent.height) + ")");
   // RAW: step.comp writes the particles, lines.vert, splat.comp or glow.comp reads them.
   // WAR/WAW: this slot's last frame read (resolve.frag, glow.comp, the glow's draw, as its
   // indirect arguments too) and wrote what the fills clear and the passes rewrite.
-  detail::memoryBarrier(m.c, commands,
-                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
-                            VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
-                            VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
-                        VK_ACCESS_SHADER_WRITE_BIT,
-                        VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT |
-                            VK_PIPELINE_STAGE_TRANSFER_BIT,
-                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
-                            VK_ACCESS_TRANSFER_WRITE_BIT);
+  detail::memoryBarrier(
+      m.c, commands,
+      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
+          VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+      VK_ACCESS_SHADER_WRITE_BIT,
+      VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT |
+          VK_PIPELINE_STAGE_TRANSFER_BIT,
+      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
   if (!splat && !glow) return;
   if (splat) {
     m.c.vk.CmdFillBuffer(commands, m.accumulation[frame].get(), 0, VK_WHOLE_SIZE, 0);
@@ -418,8 +434,8 @@ void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
   if (glow) m.c.vk.CmdFillBuffer(commands, m.glow[frame].sums.get(), 0, VK_WHOLE_SIZE, 0);
   // RAW/WAW: splat.comp and glow.comp add atomically into the cleared sums (splat.comp
   // marks tiles too).
-  detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                        VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+  detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
   if (splat) m.recordSplat(commands, frame, simulation, view, depth);
   if (glow) {
@@ -484,8 +500,12 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
   m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
                          splat ? m.glowResolve : m.glowDraw);
   detail::PushDescriptors descriptors;
-  descriptors.buffer(gpu::kGlowDrawListBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.list.get())
-      .texels(gpu::kGlowDrawLightBinding, g.lightTexels);
+  descriptors.buffer(gpu::kGlowDrawListBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.list.get());
+  if (m.cellsAsTexels)
+    descriptors.texels(gpu::kGlowDrawLightBinding, g.lightTexels);
+  else
+    descriptors.buffer(gpu::kGlowDrawLightBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                       g.light.get());
   if (splat) m.sums(descriptors, gpu::kGlowDrawSumsBinding, frame);
   descriptors.push(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.glowDrawLayout);
   m.c.vk.CmdPushConstants(commands, m.glowDrawLayout, kDrawStages, 0, sizeof(params), &params);
