@@ -241,13 +241,13 @@ const uint kResolveMarksBinding = 1u;
 const uint kGlowCell = 16u;
 const uint kGlowTile = 16u;
 const uint kGlowParticlesBinding = 0u;  // glow.comp: the particles as texels
-const uint kGlowSumsBinding = 1u;       // the cells' energy, two planes of uint
+const uint kGlowSumsBinding = 1u;       // the cells' energy, red then green a cell (uint)
 const uint kGlowLightBinding = 2u;      // after the blur: RG float per cell
 const uint kGlowListBinding = 3u;       // the quads to draw, and the draw's arguments
-const uint kGlowSumTexelsBinding = 4u;  // the sums again, as R32_UINT texels (for the blur)
+const uint kGlowSumTexelsBinding = 4u;  // the sums again, R32G32_UINT texels (light pass)
 const uint kGlowMarksBinding = 5u;      // the splat's marked resolve tiles (when folded, below)
 const uint kGlowDrawListBinding = 0u;   // glow.vert: the list
-const uint kGlowDrawLightBinding = 1u;  // glow.frag: the light, as RG32F texels
+const uint kGlowDrawLightBinding = 1u;  // glow.vert: the light, R32G32_SFLOAT texels or buffer
 const uint kGlowDrawSumsBinding = 2u;   // glow_resolve.frag: the splat's sums
 struct GlowParams {
   mat4 viewProj;  // as DrawParams
