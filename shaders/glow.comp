@@ -32,9 +32,6 @@ layout(std430, binding = kGlowListBinding) restrict buffer List {
   uint firstInstance;
   uint quads[];  // the quads to draw
 };
-#ifndef LAVA_GLOW_TEXELS
-#define LAVA_GLOW_TEXELS 1
-#endif
 #if LAVA_GLOW_TEXELS
 layout(binding = kGlowSumTexelsBinding) uniform usamplerBuffer sumTexels;  // the sums again, RG
 #endif

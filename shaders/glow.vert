@@ -12,9 +12,6 @@ layout(std430, binding = kGlowDrawListBinding) restrict readonly buffer List {
 };
 // The light, one RG32F texel a cell; built without LAVA_GLOW_TEXELS (where a texel view
 // cannot hold the cells), the storage buffer glow.comp wrote.
-#ifndef LAVA_GLOW_TEXELS
-#define LAVA_GLOW_TEXELS 1
-#endif
 #if LAVA_GLOW_TEXELS
 layout(binding = kGlowDrawLightBinding) uniform samplerBuffer light;
 

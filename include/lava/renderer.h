@@ -64,9 +64,9 @@ class LAVA_API LineRenderer {
   // Not a recording call: sizes the splat's and the glow's per-frame buffers for targets
   // of `extent` (allocates, and builds the pipelines that read the splat's sums and the
   // glow's cells on the first call or when either outgrows the device's texel views, which
-  // the spec lets hold as few as 65,536 texels; call it before recording
-  // for a new size, when no frame using the old buffers is pending). recordPrepare()
-  // requires view.extent == the last setExtent().
+  // the spec lets hold as few as 65,536 texels; call it before recording for a new size,
+  // when no frame using the old buffers is pending). recordPrepare() requires
+  // view.extent == the last setExtent().
   void setExtent(VkExtent2D extent);
 
   // Outside rendering, after the simulation's recordSimulate():

@@ -38,6 +38,12 @@ constexpr uint32_t kGlowSamples = 16384;
 constexpr VkShaderStageFlags kDrawStages =
     VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
 
+// How a pass binds what it reads through a texel view where the device's views hold it, or
+// as a storage buffer.
+VkDescriptorType readAs(bool texels) {
+  return texels ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+}
+
 // Per frame slot, what the glow passes write.
 struct GlowSlot {
   Buffer sums, light, list;
@@ -191,10 +197,8 @@ const LookSettings& LineRenderer::settings() const {
 // them too) or the glow's cells (its light pass, its quads), for each read through a texel
 // view or as a storage buffer.
 void LineRenderer::Impl::createSizedPipelines(bool sumsTexels, bool cellsTexels) {
-  const VkDescriptorType sumsType =
-      sumsTexels ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-  resolveSet =
-      detail::createPushLayout(c, {sumsType, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, kDrawStages);
+  resolveSet = detail::createPushLayout(c, {readAs(sumsTexels), VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                                        kDrawStages);
   resolveLayout =
       detail::createPipelineLayout(c, resolveSet, kDrawStages, sizeof(gpu::SplatParams));
   detail::GraphicsPipelineDesc resolve{
@@ -210,11 +214,7 @@ void LineRenderer::Impl::createSizedPipelines(bool sumsTexels, bool cellsTexels)
   lavaResolve = detail::createGraphicsPipeline(c, resolveLayout, resolve);
 
   glowDrawSet = detail::createPushLayout(
-      c,
-      {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-       cellsTexels ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-       sumsType},
-      kDrawStages);
+      c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, readAs(cellsTexels), readAs(sumsTexels)}, kDrawStages);
   glowDrawLayout =
       detail::createPipelineLayout(c, glowDrawSet, kDrawStages, sizeof(gpu::GlowParams));
   detail::GraphicsPipelineDesc quads{
@@ -257,18 +257,18 @@ void LineRenderer::setExtent(VkExtent2D extent) {
   // The draws read the sums through a texel view where one holds them (on llvmpipe a
   // gather, where a storage-buffer load is a loop over the lanes: 262,144 particles ran
   // ~1.09x faster so); 720p needs 921,600 texels, more than the spec's minimum of 65,536.
-  const bool texels = sums <= m.c.limits.maxTexelBufferElements;
+  const bool sumTexels = sums <= m.c.limits.maxTexelBufferElements;
   // The glow's cells the same (the minimum holds 4K's 32,400 cells, not 8K's 129,600).
   const bool cellTexels = cells <= m.c.limits.maxTexelBufferElements;
-  if (!m.plainResolve || texels != m.sumsAsTexels || cellTexels != m.cellsAsTexels)
-    m.createSizedPipelines(texels, cellTexels);
+  if (!m.plainResolve || sumTexels != m.sumsAsTexels || cellTexels != m.cellsAsTexels)
+    m.createSizedPipelines(sumTexels, cellTexels);
   const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   for (uint32_t f = 0; f < m.framesInFlight; ++f) {
     m.accumulation.emplace_back(m.c, sums * sizeof(uint32_t),
                                 storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-                                    (texels ? VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT : 0),
+                                    (sumTexels ? VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT : 0),
                                 detail::MemoryUse::Device);
-    if (texels)
+    if (sumTexels)
       m.accumulationTexels.push_back(detail::createTexelView(m.c, m.accumulation.back().get(),
                                                              VK_WHOLE_SIZE, VK_FORMAT_R32_UINT));
     m.marks.emplace_back(m.c, VkDeviceSize{m.tiles.x} * m.tiles.y * sizeof(uint32_t),
