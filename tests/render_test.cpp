@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 
 #include <glm/glm.hpp>
@@ -471,6 +472,68 @@ TEST_F(RenderTest, HostMemoryTargetDrawsTheSameImage) {
     // The presenter's fallback, a usual target read back, is `expected` itself.
     const OffscreenTarget readBack(device(), kSize);
     EXPECT_FALSE(readBack.inHostMemory());
+  }
+}
+
+TEST_F(RenderTest, HostWritesTheCachedBackdropIntoAHostMemoryTarget) {
+  // The MIT-SHM presenter's frames live in host memory: once a slot holds a finished frame,
+  // the renderer writes the cached backdrop into it from the host (read back once, in the
+  // first frame that copies it, ready when that frame's slot comes round again). Each frame
+  // must equal the usual target's, however stale or foreign the memory it starts from.
+  GpuSimulation simulation(device(), Scene{});
+  simulation.advance(2000);
+  const auto bytes = OffscreenTarget::hostBytes(device(), kSize, OffscreenTarget::kColorFormat);
+  ASSERT_TRUE(bytes);
+  std::unique_ptr<void, decltype(&std::free)> host(
+      std::aligned_alloc(OffscreenTarget::hostImportAlignment(device()), *bytes), &std::free);
+  const auto frame = [&](FrameRenderer& renderer, uint32_t slot, const host::FrameTarget& target,
+                         const OrbitCamera& camera) {
+    submitter_->submitNow([&](VkCommandBuffer commands) {
+      renderer.record(commands, slot, simulation, target, camera);
+      host::memoryBarrier(commands, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
+                          VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    });
+    const auto* p = static_cast<const uint8_t*>(host.get());
+    return std::vector<uint8_t>(p, p + size_t(kSize.width) * kSize.height * 4);
+  };
+  OrbitCamera turned = camera_;
+  turned.yaw += 0.5f;
+  for (LookStyle style : {LookStyle::Plain, LookStyle::Lava}) {
+    for (LineMode mode : {LineMode::Lines, LineMode::Splat}) {
+      SCOPED_TRACE(std::string(style == LookStyle::Lava ? "lava" : "plain") +
+                   (mode == LineMode::Splat ? " splat" : " lines"));
+      FrameRenderer usual(device(), OffscreenTarget::kColorFormat, 1, style);
+      usual.setLineMode(mode);
+      const OffscreenTarget plainTarget(device(), kSize);
+      const auto expected =
+          host::renderOffscreen(*submitter_, usual, simulation, plainTarget, camera_);
+      const auto expectedTurned =
+          host::renderOffscreen(*submitter_, usual, simulation, plainTarget, turned);
+
+      FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 2, style);
+      renderer.setLineMode(mode);
+      const OffscreenTarget inHost(device(), kSize, OffscreenTarget::kColorFormat, host.get());
+      // The first frame draws the backdrop; nothing is in the memory yet to write over.
+      EXPECT_EQ(frame(renderer, 0, inHost.target(), camera_), expected);
+      EXPECT_FALSE(renderer.backdropReused());
+      // Frames 1 and 2 copy it on the device (frame 1 also reads it back); from frame 3, in
+      // frame 1's slot again, the host writes it, over memory scribbled on in between.
+      for (uint32_t i = 1; i < 6; ++i) {
+        std::memset(host.get(), int(0x35 * i), *bytes);
+        EXPECT_EQ(frame(renderer, i % 2, inHost.targetWithHostColor(), camera_), expected)
+            << "frame " << i;
+        EXPECT_TRUE(renderer.backdropReused());
+        EXPECT_EQ(renderer.backdropWrittenByHost(), i >= 3) << "frame " << i;
+      }
+      // A new view: drawn, copied and read back anew; the host writes the new backdrop.
+      EXPECT_EQ(frame(renderer, 0, inHost.targetWithHostColor(), turned), expectedTurned);
+      for (uint32_t i = 1; i < 4; ++i) {
+        std::memset(host.get(), int(0x35 * i), *bytes);
+        EXPECT_EQ(frame(renderer, i % 2, inHost.targetWithHostColor(), turned), expectedTurned)
+            << "turned, frame " << i;
+        EXPECT_EQ(renderer.backdropWrittenByHost(), i >= 3) << "turned, frame " << i;
+      }
+    }
   }
 }
 

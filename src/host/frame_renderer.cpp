@@ -121,13 +121,14 @@ void FrameRenderer::resize(VkExtent2D extent) {
   extent_ = extent;
 }
 
-bool FrameRenderer::copyBackdrop(VkCommandBuffer commands, const FrameTarget& target,
-                                 const View& view, const Scene& scene) {
+bool FrameRenderer::copyBackdrop(VkCommandBuffer commands, uint32_t frame,
+                                 const FrameTarget& target, const View& view, const Scene& scene) {
   BackdropCache& c = cache_;
   std::vector<float> key = backdropKey(view, scene, lines_.style());
   if (!sameKey(c.key, key)) {  // a new view: drawn directly until it repeats
     c.key = std::move(key);
     c.drawn = false;
+    c.pixelsState = BackdropCache::Pixels::None;
     return false;
   }
   if (!target.copyable) return false;
@@ -166,6 +167,10 @@ bool FrameRenderer::copyBackdrop(VkCommandBuffer commands, const FrameTarget& ta
                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
     c.drawn = true;
   }
+  if (target.hostColor && writeBackdropFromHost(commands, frame, target)) {
+    backdropByHost_ = true;
+    return true;
+  }
   discardInto(commands, target.color, kColor, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
               VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
   copyImage(commands, c.color.image, target.color, kColor, extent_);
@@ -177,6 +182,45 @@ bool FrameRenderer::copyBackdrop(VkCommandBuffer commands, const FrameTarget& ta
   return true;
 }
 
+// On a CPU device the copy into each frame is a memcpy on the device's one queue thread
+// while the other cores wait; the host does it sooner, while the device still works on the
+// previous frame. The cached colour is read back once (this frame), then written by the host
+// from the next frame in this slot on, when the read-back has surely finished.
+bool FrameRenderer::writeBackdropFromHost(VkCommandBuffer commands, uint32_t frame,
+                                          const FrameTarget& target) {
+  BackdropCache& c = cache_;
+  using Pixels = BackdropCache::Pixels;
+  if (c.pixelsState == Pixels::Recorded && frame == c.pixelsFrame) c.pixelsState = Pixels::Ready;
+  if (c.pixelsState == Pixels::None) {
+    const VkExtent2D e = extent_;
+    if (!c.pixels.buffer())
+      c.pixels = ReadbackBuffer(device_, VkDeviceSize{e.width} * e.height * 4);
+    // WAW: a read-back of an earlier view may still be running.
+    memoryBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+    VkBufferImageCopy region{};
+    region.imageSubresource = {kColor, 0, 0, 1};
+    region.imageExtent = {e.width, e.height, 1};
+    vkCmdCopyImageToBuffer(commands, c.color.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                           c.pixels.buffer(), 1, &region);
+    // RAW: the host reads what the copy wrote.
+    memoryBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    c.pixelsState = Pixels::Recorded;
+    c.pixelsFrame = frame;
+    return false;
+  }
+  if (c.pixelsState != Pixels::Ready) return false;
+  std::memcpy(target.hostColor, c.pixels.read(), size_t(extent_.width) * extent_.height * 4);
+  // The submission makes the host's writes visible to the device; the image keeps them into
+  // the lines' pass, which loads the colour.
+  imageBarrier(commands, target.color, kColor, target.finalLayout,
+               VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_HOST_BIT,
+               VK_ACCESS_HOST_WRITE_BIT, kColorStage,
+               VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT);
+  return true;
+}
+
 void FrameRenderer::record(VkCommandBuffer commands, uint32_t frame,
                            const GpuSimulation& simulation, const FrameTarget& target,
                            const OrbitCamera& camera,
@@ -184,7 +228,8 @@ void FrameRenderer::record(VkCommandBuffer commands, uint32_t frame,
   resize(target.extent);
   const View view{camera.viewProj(float(target.extent.width) / float(target.extent.height)),
                   target.extent, camera.eye()};
-  backdropReused_ = copyBackdrop(commands, target, view, simulation.scene());
+  backdropByHost_ = false;
+  backdropReused_ = copyBackdrop(commands, frame, target, view, simulation.scene());
   // A reused backdrop's depth is the cache's own (read-only: the lines do not write depth);
   // copying it would cost a frame more than the colour does on a CPU device.
   const VkImageView depth = backdropReused_ ? cache_.depth.view.get() : target.depthView;

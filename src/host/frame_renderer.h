@@ -1,9 +1,10 @@
 // One frame of the `lava` program as a paragraph: the backdrop (drawn once per view into
 // images of its own; while the view repeats, its colour is copied into each frame, a memcpy
-// on a CPU device instead of shading every pixel, and its depth is tested against in place),
-// the simulation's draw preparation (the splat, tested against the frame's depth, and the
-// lava look's glow), the lines, an overlay (the demo's panel), then the target's final
-// layout. Both looks take this path.
+// on a CPU device instead of shading every pixel, made by the host itself where the frame
+// lives in host memory, and its depth is tested against in place), the simulation's draw
+// preparation (the splat, tested against the frame's depth, and the lava look's glow), the
+// lines, an overlay (the demo's panel), then the target's final layout. Both looks take
+// this path.
 #pragma once
 #include <functional>
 #include <vector>
@@ -28,25 +29,37 @@ class FrameRenderer {
   void setSettings(const LookSettings& settings) { lines_.setSettings(settings); }
   const LookSettings& settings() const { return lines_.settings(); }
 
-  // Records the frame into `target` (its color and depth images' previous contents are
-  // discarded; the depth image is left alone while the cached backdrop's depth serves). `overlay` records with the color image in COLOR_ATTACHMENT_OPTIMAL and must
-  // leave it there; it may begin a render pass of its own. A new target size waits for the
-  // device to be idle first (the renderer's per-size resources are rebuilt).
+  // Records the frame into `target` in frame slot `frame` (below framesInFlight; that
+  // slot's previous frame must have finished). The color and depth images' previous
+  // contents are discarded; the depth image is left alone while the cached backdrop's depth
+  // serves, and a target with hostColor may have its colour written by the host here, before
+  // the commands are submitted. `overlay` records with the color image in
+  // COLOR_ATTACHMENT_OPTIMAL and must leave it there; it may begin a render pass of its own.
+  // A new target size waits for the device to be idle first (the renderer's per-size
+  // resources are rebuilt).
   void record(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
               const FrameTarget& target, const OrbitCamera& camera,
               const std::function<void(VkCommandBuffer)>& overlay = {});
-  // Whether the last record() copied the cached backdrop instead of drawing it (for tests).
+  // Whether the last record() copied the cached backdrop instead of drawing it, and whether
+  // the host wrote that copy (for tests).
   bool backdropReused() const { return backdropReused_; }
+  bool backdropWrittenByHost() const { return backdropByHost_; }
 
  private:
   struct BackdropCache {
     Image color, depth;
     std::vector<float> key;  // what it was drawn from (view, look, solids)
     bool drawn = false;
+    // The colour read back for targets the host writes (FrameTarget::hostColor): recorded
+    // in frame slot `pixelsFrame`, ready once that slot is recorded again.
+    ReadbackBuffer pixels;
+    enum class Pixels { None, Recorded, Ready } pixelsState = Pixels::None;
+    uint32_t pixelsFrame = 0;
   };
   void resize(VkExtent2D extent);
-  bool copyBackdrop(VkCommandBuffer commands, const FrameTarget& target, const View& view,
-                    const Scene& scene);
+  bool copyBackdrop(VkCommandBuffer commands, uint32_t frame, const FrameTarget& target,
+                    const View& view, const Scene& scene);
+  bool writeBackdropFromHost(VkCommandBuffer commands, uint32_t frame, const FrameTarget& target);
   void beginRendering(VkCommandBuffer commands, VkImageView color, VkImageView depth,
                       VkExtent2D extent, bool load) const;
 
@@ -57,6 +70,7 @@ class FrameRenderer {
   BackdropCache cache_;
   VkExtent2D extent_{0, 0};
   bool backdropReused_ = false;
+  bool backdropByHost_ = false;
   PFN_vkCmdBeginRendering cmdBeginRendering_;
   PFN_vkCmdEndRendering cmdEndRendering_;
 };

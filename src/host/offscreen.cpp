@@ -146,6 +146,12 @@ FrameTarget OffscreenTarget::target() const {
   return t;
 }
 
+FrameTarget OffscreenTarget::targetWithHostColor() const {
+  FrameTarget t = target();
+  t.hostColor = static_cast<uint8_t*>(host_);
+  return t;
+}
+
 void OffscreenTarget::recordReadback(VkCommandBuffer commands) const {
   if (host_) {
     // RAW: the host reads what the frame wrote, in place.

@@ -26,6 +26,11 @@ struct FrameTarget {
   VkExtent2D extent{0, 0};
   bool copyable = false;  // color and depth accept copies (the cached ground)
   VkImageLayout finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;  // the color's, after
+  // The color image's memory as the host sees it (host-coherent, rows of extent.width * 4
+  // bytes, packed), set only while the image holds a finished frame in finalLayout (then
+  // GENERAL): the renderer may write the cached backdrop into it from the host, before the
+  // commands are submitted, instead of recording a copy.
+  uint8_t* hostColor = nullptr;
 };
 
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
@@ -46,6 +51,9 @@ class OffscreenTarget {
                                                VkFormat color);
 
   FrameTarget target() const;
+  // For a target in host memory that holds a finished frame (the caller waited for it): the
+  // same, with hostColor set.
+  FrameTarget targetWithHostColor() const;
   VkExtent2D extent() const { return extent_; }
   bool inHostMemory() const { return host_ != nullptr; }
   // After the frame: copy the color image for the host (in host memory: only make the

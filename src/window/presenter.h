@@ -32,8 +32,8 @@ class Presenter {
   virtual bool resize(VkExtent2D framebufferSize) = 0;
   virtual VkExtent2D extent() const = 0;
 
-  // The target of `slot`'s next frame; its color image is VK_NULL_HANDLE when the targets
-  // are out of date (resize, then try again).
+  // The target of `slot`'s next frame, once the slot's previous frame has finished; its
+  // color image is VK_NULL_HANDLE when the targets are out of date (resize, then try again).
   virtual host::FrameTarget acquire(uint32_t slot) = 0;
   // Records what must follow the frame in its command buffer.
   virtual void recordAfterFrame(VkCommandBuffer commands, uint32_t slot) = 0;

@@ -188,6 +188,7 @@ bool ShmPresenter::resize(VkExtent2D framebufferSize) {
   for (Slot& slot : slots_) {
     slot.target.reset();  // its color image may live in the segment's memory
     slot.segment.reset();
+    slot.drawn = false;
   }
   extent_ = {0, 0};
   if (framebufferSize.width == 0 || framebufferSize.height == 0) return false;
@@ -225,7 +226,10 @@ host::FrameTarget ShmPresenter::acquire(uint32_t slot) {
     XSync(x11_->display, False);           // written again (by the pass or by put())
     for (Slot& s : slots_) s.segment->putPending = false;
   }
-  return slots_[slot].target->target();
+  // The slot's previous frame has finished: where it was drawn in place, the renderer may
+  // write the next one's backdrop from the host.
+  const Slot& s = slots_[slot];
+  return s.drawn && s.target->inHostMemory() ? s.target->targetWithHostColor() : s.target->target();
 }
 
 void ShmPresenter::recordAfterFrame(VkCommandBuffer commands, uint32_t slot) {
@@ -237,6 +241,7 @@ bool ShmPresenter::submitAndPresent(VkCommandBuffer commands, VkFence done, uint
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &commands;
   HOST_CHECK(vkQueueSubmit(device_.handles().queue, 1, &submit, done));
+  slots_[slot].drawn = true;
   flush();  // the previous frame, while the device works on this one
   pending_ = true;
   pendingSlot_ = slot;

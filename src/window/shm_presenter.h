@@ -58,6 +58,7 @@ class ShmPresenter final : public Presenter {
   struct Slot {  // the segment first: the target's color image may live in its memory
     std::unique_ptr<Segment> segment;
     std::unique_ptr<host::OffscreenTarget> target;  // in the segment itself where possible
+    bool drawn = false;  // a frame was submitted into it (so it holds one once acquired again)
   };
   void put(uint32_t slot);
 
