@@ -195,27 +195,19 @@ bool FrameRenderer::writeBackdropFromHost(VkCommandBuffer commands, uint32_t fra
   BackdropCache& c = cache_;
   using Pixels = BackdropCache::Pixels;
   if (c.pixelsState == Pixels::Recorded && frame == c.pixelsFrame) c.pixelsState = Pixels::Ready;
+  const size_t bytes = size_t(extent_.width) * extent_.height * 4;
   if (c.pixelsState == Pixels::None) {
-    const VkExtent2D e = extent_;
-    if (!c.pixels.buffer())
-      c.pixels = ReadbackBuffer(device_, VkDeviceSize{e.width} * e.height * 4);
+    if (!c.pixels.buffer()) c.pixels = ReadbackBuffer(device_, bytes);
     // WAW: a read-back of an earlier view may still be running.
     memoryBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                   VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
-    VkBufferImageCopy region{};
-    region.imageSubresource = {kColor, 0, 0, 1};
-    region.imageExtent = {e.width, e.height, 1};
-    vkCmdCopyImageToBuffer(commands, c.color.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                           c.pixels.buffer(), 1, &region);
-    // RAW: the host reads what the copy wrote.
-    memoryBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    c.pixels.recordCopy(commands, c.color.image, extent_);
     c.pixelsState = Pixels::Recorded;
     c.pixelsFrame = frame;
     return false;
   }
   if (c.pixelsState != Pixels::Ready) return false;
-  std::memcpy(target.hostColor, c.pixels.read(), size_t(extent_.width) * extent_.height * 4);
+  std::memcpy(target.hostColor, c.pixels.read(), bytes);
   // The submission makes the host's writes visible to the device; the image keeps them into
   // the lines' pass, which loads the colour.
   imageBarrier(commands, target.color, kColor, target.finalLayout,

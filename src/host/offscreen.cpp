@@ -159,14 +159,7 @@ void OffscreenTarget::recordReadback(VkCommandBuffer commands) const {
                   VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
     return;
   }
-  VkBufferImageCopy region{};
-  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  region.imageExtent = {extent_.width, extent_.height, 1};
-  vkCmdCopyImageToBuffer(commands, color_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                         readback_.buffer(), 1, &region);
-  // RAW: the host reads what the copy wrote.
-  memoryBarrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+  readback_.recordCopy(commands, color_.image, extent_);
 }
 
 const uint8_t* OffscreenTarget::mappedPixels() const {

@@ -97,6 +97,9 @@ class ReadbackBuffer {
   ReadbackBuffer() = default;
   ReadbackBuffer(const Device& device, VkDeviceSize size);
   VkBuffer buffer() const { return buffer_; }
+  // Records the copy of `image`'s colour (TRANSFER_SRC_OPTIMAL, `extent`) into the buffer and
+  // makes it available to the host.
+  void recordCopy(VkCommandBuffer commands, VkImage image, VkExtent2D extent) const;
   // What the device wrote, once the host has waited for it (invalidated when not coherent).
   const void* read() const;
 
