@@ -190,6 +190,7 @@ class Demo {
     for (uint64_t iteration = 0; !glfwWindowShouldClose(window_.handle); ++iteration) {
       glfwPollEvents();
       if (options_.exercise) exercise(iteration);
+      lastFrame_ = options_.frames != 0 && presented + 1 >= options_.frames;
       const auto now = std::chrono::steady_clock::now();
       const double frameSeconds = std::chrono::duration<double>(now - last).count();
       last = now;
@@ -203,6 +204,8 @@ class Demo {
     }
     presenter_->flush();
     device_.waitIdle();
+    // The frames still in flight at the end, oldest first: their stamps count too.
+    for (uint32_t k = 0; k < kFramesInFlight; ++k) readTimings((frame_ + k) % kFramesInFlight);
     DemoSummary summary;
     summary.frames = presented;
     summary.seconds =
@@ -517,9 +520,10 @@ class Demo {
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     HOST_CHECK(vkBeginCommandBuffer(commands, &begin));
-    // Timed about ten times a second (each timed frame costs lavapipe about 1 ms).
+    // Timed about ten times a second (each timed frame costs lavapipe about 1 ms), and the
+    // last frame of a run of --frames N, so that its summary has GPU times however fast it ran.
     const double now = glfwGetTime();
-    const bool timed = now - lastTimed_ >= 0.1 || now < lastTimed_;
+    const bool timed = now - lastTimed_ >= 0.1 || now < lastTimed_ || lastFrame_;
     if (timed) {
       lastTimed_ = now;
       timer_.recordStart(commands, index);
@@ -569,6 +573,7 @@ class Demo {
   // cached backdrop and may compile shaders).
   double lastTimed_ = 0.0;
   uint64_t timedFrames_ = 0;
+  bool lastFrame_ = false;  // the frame being drawn is the last of a run of --frames N
   struct Shown {  // the panel's figures, as last refreshed
     double at = -1.0, fps = 0.0, simulateMs = 0.0, drawMs = 0.0, seconds = 0.0;
     uint64_t alive = 0;
