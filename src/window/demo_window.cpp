@@ -190,11 +190,11 @@ class Demo {
     for (uint64_t iteration = 0; !glfwWindowShouldClose(window_.handle); ++iteration) {
       glfwPollEvents();
       if (options_.exercise) exercise(iteration);
-      lastFrame_ = options_.frames != 0 && presented + 1 >= options_.frames;
       const auto now = std::chrono::steady_clock::now();
       const double frameSeconds = std::chrono::duration<double>(now - last).count();
       last = now;
-      if (!drawFrame(frameSeconds)) {
+      const bool lastFrame = options_.frames != 0 && presented + 1 >= options_.frames;
+      if (!drawFrame(frameSeconds, lastFrame)) {
         glfwWaitEventsTimeout(0.02);  // minimised: wait without spinning
         continue;
       }
@@ -476,8 +476,9 @@ class Demo {
     }
   }
 
-  // One frame: simulate, draw, present. False when nothing could be drawn (minimised).
-  bool drawFrame(double frameSeconds) {
+  // One frame: simulate, draw, present; `lastOfRun`: the last of a run of --frames N. False when
+  // nothing could be drawn (minimised).
+  bool drawFrame(double frameSeconds, bool lastOfRun) {
     if (minimisedByExercise_ || glfwGetWindowAttrib(window_.handle, GLFW_ICONIFIED)) return false;
     if (resized_) {
       if (!presenter_->resize(framebufferSize())) return false;
@@ -523,7 +524,7 @@ class Demo {
     // Timed about ten times a second (each timed frame costs lavapipe about 1 ms), and the
     // last frame of a run of --frames N, so that its summary has GPU times however fast it ran.
     const double now = glfwGetTime();
-    const bool timed = now - lastTimed_ >= 0.1 || now < lastTimed_ || lastFrame_;
+    const bool timed = now - lastTimed_ >= 0.1 || now < lastTimed_ || lastOfRun;
     if (timed) {
       lastTimed_ = now;
       timer_.recordStart(commands, index);
@@ -573,7 +574,6 @@ class Demo {
   // cached backdrop and may compile shaders).
   double lastTimed_ = 0.0;
   uint64_t timedFrames_ = 0;
-  bool lastFrame_ = false;  // the frame being drawn is the last of a run of --frames N
   struct Shown {  // the panel's figures, as last refreshed
     double at = -1.0, fps = 0.0, simulateMs = 0.0, drawMs = 0.0, seconds = 0.0;
     uint64_t alive = 0;
