@@ -1,4 +1,5 @@
 #version 460
+#extension GL_EXT_samplerless_texture_functions : require  // texelFetch on texel views
 // The lava look's glow, at one cell per kGlowCell x kGlowCell pixels, in two passes (two
 // modules: glow_splat without LAVA_GLOW_LIGHT, glow_light with it), over sums the renderer
 // cleared:
@@ -18,7 +19,7 @@
 
 layout(local_size_x_id = 0) in;
 
-layout(binding = kGlowParticlesBinding) uniform samplerBuffer particles;
+layout(binding = kGlowParticlesBinding) uniform textureBuffer particles;
 layout(std430, binding = kGlowSumsBinding) restrict buffer Sums {
   uint sums[];  // per cell its red, then its green
 };
@@ -33,7 +34,7 @@ layout(std430, binding = kGlowListBinding) restrict buffer List {
   uint quads[];  // the quads to draw
 };
 #if LAVA_GLOW_TEXELS
-layout(binding = kGlowSumTexelsBinding) uniform usamplerBuffer sumTexels;  // the sums again, RG
+layout(binding = kGlowSumTexelsBinding) uniform utextureBuffer sumTexels;  // the sums again, RG
 #endif
 #if LAVA_GLOW_LIGHT
 layout(constant_id = 1) const bool kResolves = false;

@@ -1,4 +1,5 @@
 #version 460
+#extension GL_EXT_samplerless_texture_functions : require  // texelFetch on texel views
 // The glow, interpolated between cell centres, for the blend src (1 - dst) + dst. Built with
 // LAVA_GLOW_RESOLVE (glow_resolve.frag) it also resolves splat.comp's sums at the pixel, in
 // one pass instead of resolve.frag's and this one's: the lines' colour a and the glow's g

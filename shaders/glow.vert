@@ -1,4 +1,5 @@
 #version 460
+#extension GL_EXT_samplerless_texture_functions : require  // texelFetch on texel views
 // The glow's listed quads (6 vertices each), each spanning the centres of four neighbouring
 // cells (the screen's edges clamped), with each corner's light tone mapped: the rasteriser
 // interpolates between cell centres, and a pixel costs no more than a line's.
@@ -13,7 +14,7 @@ layout(std430, binding = kGlowDrawListBinding) restrict readonly buffer List {
 // The light, one RG32F texel a cell; built without LAVA_GLOW_TEXELS (where a texel view
 // cannot hold the cells), the storage buffer glow.comp wrote.
 #if LAVA_GLOW_TEXELS
-layout(binding = kGlowDrawLightBinding) uniform samplerBuffer light;
+layout(binding = kGlowDrawLightBinding) uniform textureBuffer light;
 
 vec2 lightAt(int cell) {
   return texelFetch(light, cell).rg;

@@ -1,4 +1,5 @@
 #version 460
+#extension GL_EXT_samplerless_texture_functions : require  // texelFetch on texel views
 // Vertex pulling: vertex 2i is particle i's position x, vertex 2i+1 is x + s·v (seed eqs.
 // 8-9), read straight from the buffer step.comp writes, the line clipped to the view volume
 // here (clip.glsl). Unborn slots draw nothing. The buffer is read through its texel view
@@ -12,7 +13,7 @@
 #include "clip.glsl"
 #include "lava_color.glsl"
 
-layout(binding = kParticleBinding) uniform samplerBuffer particles;  // two texels a particle
+layout(binding = kParticleBinding) uniform textureBuffer particles;  // two texels a particle
 layout(push_constant) uniform Push {
   DrawParams d;
 };

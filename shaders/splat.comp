@@ -1,4 +1,5 @@
 #version 460
+#extension GL_EXT_samplerless_texture_functions : require  // texelFetch on texel views
 // The fast line renderer: each alive particle walks its line x -> x + s v in screen space
 // and adds its colour into a fixed-point buffer the size of the target with one atomic per
 // pixel (red in the high 16 bits, green in the low 16); built with LAVA_SPLAT_PAIRS, one
@@ -18,7 +19,7 @@ layout(local_size_x_id = 0) in;
 
 // The particles as RGBA32F texels (posAge, velMass): llvmpipe gathers texel fetches
 // without the per-lane bounds-checked loop it runs for a storage-buffer load.
-layout(binding = kSplatParticleBinding) uniform samplerBuffer particles;
+layout(binding = kSplatParticleBinding) uniform textureBuffer particles;
 #if LAVA_SPLAT_PAIRS
 layout(std430, binding = kSplatSumsBinding) restrict buffer Accumulation {
   uint64_t accumulation[];  // two pixels a word (splatIndex / 2), the even one low

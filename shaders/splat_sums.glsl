@@ -3,7 +3,7 @@
 // device's texel views hold the target's sums: on llvmpipe a gather, where a storage-buffer
 // load is a loop over the lanes) or as the storage buffer splat.comp adds into.
 #if LAVA_SUMS_TEXELS
-layout(binding = LAVA_SUMS_BINDING) uniform usamplerBuffer accumulation;
+layout(binding = LAVA_SUMS_BINDING) uniform utextureBuffer accumulation;
 
 uint splatSumAt(uint i) {
   return texelFetch(accumulation, int(i)).r;

@@ -1,4 +1,5 @@
 #version 460
+#extension GL_EXT_samplerless_texture_functions : require  // texelFetch on texel views
 // One dispatch advances every particle of the bound chunk by run.y steps of SPEC §6:
 // emission (from the host's per-emitter ring schedule), forces, the integrator, the ground,
 // the colliders, lifetimes. Particles are independent, so each invocation keeps its
@@ -34,7 +35,7 @@ layout(constant_id = kBirthsConstant) const uint kBirths = 1u;
 layout(std430, binding = kParticleBinding) writeonly buffer Particles {
   Particle particles[];
 };
-layout(binding = kParticleTexelBinding) uniform samplerBuffer particleTexels;  // same memory
+layout(binding = kParticleTexelBinding) uniform textureBuffer particleTexels;  // same memory
 layout(std430, binding = kScheduleBinding) restrict readonly buffer Schedule {
   EmitEntry schedule[];
 };

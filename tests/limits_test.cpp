@@ -5,11 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <set>
 
 #include "host/frame_renderer.h"
 #include "host/offscreen.h"
 #include "lava/lava.h"
 #include "shared.h"
+#include "vulkan/commands.h"
 #include "vulkan/device_context.h"
 #include "vulkan_test.h"
 
@@ -181,6 +183,40 @@ INSTANTIATE_TEST_SUITE_P(Drivers, Limits, ::testing::ValuesIn(kProfiles),
                              if (ch == '-') ch = '_';
                            return name;
                          });
+
+}  // namespace
+}  // namespace lava
+
+namespace lava {
+namespace {
+
+// Without push descriptors, each bind of a frame slot takes the next descriptor set of its
+// layout; reset() (the slot's next frame) hands the same sets out again, so a run of frames
+// allocates only what its first frame did.
+TEST(DescriptorArena, ReusesTheSameSetsFrameAfterFrame) {
+  DeviceOptions options = test::validatedOptions();
+  options.pushDescriptors = false;
+  Device device(options);
+  const detail::DeviceContext& c = device.context();
+  ASSERT_FALSE(c.pushDescriptors);
+  const auto storage =
+      detail::createSetLayout(c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, VK_SHADER_STAGE_COMPUTE_BIT);
+  const auto texels = detail::createSetLayout(
+      c, {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
+      VK_SHADER_STAGE_COMPUTE_BIT);
+  detail::DescriptorArena arena(c);
+  std::vector<VkDescriptorSet> first;
+  for (int i = 0; i < 40; ++i)  // more than one pool's sets
+    first.push_back(arena.take(i % 2 ? storage.get() : texels.get()));
+  EXPECT_EQ(std::set<VkDescriptorSet>(first.begin(), first.end()).size(), first.size());
+  for (int frame = 0; frame < 3; ++frame) {
+    arena.reset();
+    for (int i = 0; i < 40; ++i)
+      EXPECT_EQ(arena.take(i % 2 ? storage.get() : texels.get()), first[i]) << frame << " " << i;
+  }
+  for (const std::string& message : device.takeValidationMessages())
+    ADD_FAILURE() << "validation: " << message;
+}
 
 }  // namespace
 }  // namespace lava

@@ -3,16 +3,25 @@
 #pragma once
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <memory>
+#include <stdexcept>
+#include <string>
 
+#include "host/vulkan.h"
 #include "lava/device.h"
 
 namespace lava::test {
 
+// LAVA_DEVICE_PROFILE=minimal runs every test on the fallback paths (ctest's *.Minimal).
 inline DeviceOptions validatedOptions() {
   DeviceOptions options;
   options.validation = true;
   options.deviceExtensions = {VK_EXT_EXTERNAL_MEMORY_HOST_EXTENSION_NAME};
+  const char* profile = std::getenv("LAVA_DEVICE_PROFILE");
+  if (profile && !host::applyDeviceProfile(options, profile))
+    throw std::invalid_argument(std::string("LAVA_DEVICE_PROFILE: expected ") +
+                                host::kDeviceProfiles);
   return options;
 }
 

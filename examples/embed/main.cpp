@@ -56,7 +56,8 @@ struct Host {
   VkDevice device = VK_NULL_HANDLE;
   uint32_t family = 0;
   VkQueue queue = VK_NULL_HANDLE;
-  bool int64Atomics = false;  // enabled: Lava's splat adds two pixels per atomic
+  bool int64Atomics = false;     // enabled: Lava's splat adds two pixels per atomic
+  bool pushDescriptors = false;  // VK_KHR_push_descriptor enabled
 
   Host() {
     const bool validation = hasLayer("VK_LAYER_KHRONOS_validation");
@@ -137,8 +138,19 @@ struct Host {
     deviceInfo.pNext = &enabled;
     deviceInfo.queueCreateInfoCount = 1;
     deviceInfo.pQueueCreateInfos = &queueInfo;
-    deviceInfo.enabledExtensionCount = static_cast<uint32_t>(needs.extensions.size());
-    deviceInfo.ppEnabledExtensionNames = needs.extensions.data();
+    // Optional extensions, where offered (push descriptors: then told to Lava, below).
+    std::vector<const char*> extensions = needs.extensions;
+    uint32_t extensionCount = 0;
+    vkEnumerateDeviceExtensionProperties(physical, nullptr, &extensionCount, nullptr);
+    std::vector<VkExtensionProperties> offeredExtensions(extensionCount);
+    vkEnumerateDeviceExtensionProperties(physical, nullptr, &extensionCount,
+                                         offeredExtensions.data());
+    for (const char* optional : needs.optionalExtensions)
+      for (const VkExtensionProperties& e : offeredExtensions)
+        if (std::strcmp(e.extensionName, optional) == 0) extensions.push_back(optional);
+    pushDescriptors = extensions.size() > needs.extensions.size();
+    deviceInfo.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
+    deviceInfo.ppEnabledExtensionNames = extensions.data();
     check(vkCreateDevice(physical, &deviceInfo, nullptr, &device), "vkCreateDevice");
     vkGetDeviceQueue(device, family, 0, &queue);
   }
@@ -226,6 +238,7 @@ int run() {
   handles.queueFamily = host.family;
   handles.queue = host.queue;
   handles.int64Atomics = host.int64Atomics;
+  handles.pushDescriptors = host.pushDescriptors;
   lava::Device device(handles);
 
   lava::Scene scene;  // the lava crater: 5,000 slots, 1,000 births per second

@@ -36,6 +36,10 @@ struct DeviceHandles {
   // DeviceRequirements): the splat then adds two pixels per atomic. For a device Lava
   // created, whether it enabled them.
   bool int64Atomics = false;
+  // Optional: the device was created with VK_KHR_push_descriptor: Lava pushes its
+  // descriptors instead of writing sets from pools of its own. For a device Lava created,
+  // whether it enabled it.
+  bool pushDescriptors = false;
 };
 
 // What a device must offer Lava: create it with these (vk-bootstrap or by hand).
@@ -47,6 +51,9 @@ struct DeviceRequirements {
   // Optional, where the device offers them: VkPhysicalDeviceFeatures::shaderInt64 and
   // shaderBufferInt64Atomics (Vulkan 1.2), then DeviceHandles::int64Atomics = true.
   bool int64Atomics;
+  // Optional, where the device offers them (then set DeviceHandles::pushDescriptors):
+  // VK_KHR_push_descriptor.
+  std::vector<const char*> optionalExtensions;
 };
 // For a physical device of Vulkan version `deviceApiVersion` (1.2 needs the dynamic
 // rendering extension, 1.3 has it in core).
@@ -60,7 +67,11 @@ struct DeviceOptions {
                                                 // validation; messages via takeValidationMessages()
   std::vector<const char*> instanceExtensions;  // required, e.g. a window system's
   std::vector<const char*> deviceExtensions;    // enabled where the device offers them
-  bool int64Atomics = true;                     // 64-bit buffer atomics where offered
+  // Optional paths, each taken where the device offers it; false takes the fallback even
+  // there (a profile of a device that lacks it, for tests):
+  bool int64Atomics = true;     // 64-bit buffer atomics (the splat adds two pixels at once)
+  bool pushDescriptors = true;  // VK_KHR_push_descriptor (else descriptor sets)
+  bool floatControls = true;    // declare RTE rounding and signed-zero preservation
   std::string applicationName = "lava";
 };
 
@@ -90,6 +101,8 @@ class LAVA_API Device {
   std::string driver() const;
   // The float controls Lava's shaders rely on, in words ("RTE rounding: yes, ...").
   std::string floatControls() const;
+  // The optional paths this device takes, in words: "push descriptors: yes, ...".
+  std::string optionalPaths() const;
   // Whether Lava enabled `extension` (own device) or the device offers it (borrowed).
   bool hasExtension(const char* extension) const;
 

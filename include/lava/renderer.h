@@ -77,7 +77,12 @@ class LAVA_API LineRenderer {
   // FRAGMENT_SHADER reads). `depth` (optional): a view of the scene's depth (the format
   // given at construction) that the splat tests against as the pipeline's depth test
   // does, in VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL, its writes made visible to
-  // COMPUTE_SHADER reads by the host. Records only.
+  // COMPUTE_SHADER reads by the host. Records only: no submission or wait.
+  // It starts slot `frame`'s frame: the host's previous submission that used `frame` must
+  // have finished. On a device without VK_KHR_push_descriptor this and recordDraw() write
+  // the slot's descriptor sets (allocated from Lava's own pool by the slot's first frames,
+  // then reused), so their command buffer cannot be submitted again after the slot's next
+  // recordPrepare().
   void recordPrepare(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
                      const View& view, VkImageView depth = VK_NULL_HANDLE);
   // Inside the host's dynamic rendering scope (vkCmdBeginRendering) with the formats given

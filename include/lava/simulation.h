@@ -78,6 +78,9 @@ struct GpuSimulationOptions {
   uint32_t framesInFlight = 2;       // frame slots of update() / recordSimulate()
   uint32_t maxStepsPerFrame = 2048;  // most steps one update() may plan
   uint32_t stepsPerDispatch = 256;   // 1..256 steps fused per dispatch (1: memory-bound)
+  // Particles one chunk (binding, texel view, dispatch) holds: 0 for as many as the device
+  // allows (Device::particlesPerChunk()), else at most this many, in whole workgroups of 64.
+  uint32_t maxParticlesPerChunk = 0;
 };
 
 // Particles [first, first + count) of the state, in `buffer` from offset 0, 32 bytes each
@@ -118,7 +121,10 @@ class LAVA_API GpuSimulation final : public Simulation {
   // After: the particle buffers are written by VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT with
   // VK_ACCESS_SHADER_WRITE_BIT; a reader needs a barrier from there (LineRenderer's
   // recordPrepare() records it).
-  // Records only: no submission, wait or allocation.
+  // Records only: no submission or wait. On a device without VK_KHR_push_descriptor it
+  // writes the slot's descriptor sets (allocated from Lava's own pool by the first
+  // recordings of the slot, then reused), so a command buffer it recorded into cannot be
+  // submitted again once the slot is recorded anew.
   void recordSimulate(VkCommandBuffer commands, uint32_t frame);
 
   // Blocking helpers. They submit to the device's queue and wait for that submission;

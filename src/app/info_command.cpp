@@ -1,8 +1,8 @@
 // `lava info`: the Vulkan devices, the one Lava would pick, and the limits that bound a scene.
 #include <algorithm>
 #include <cstdio>
-#include <thread>
 #include <optional>
+#include <thread>
 
 #include "commands.h"
 #include "lava/lava.h"
@@ -53,6 +53,7 @@ class InfoCommand final : public Command {
     std::printf("selected device %u: %s\n", device.index(), device.properties().deviceName);
     std::printf("  driver                          %s\n", device.driver().c_str());
     std::printf("  float controls                  %s\n", device.floatControls().c_str());
+    std::printf("  optional paths                  %s\n", device.optionalPaths().c_str());
     std::printf("  64-bit buffer atomics           %s\n",
                 device.handles().int64Atomics ? "yes (the splat adds two pixels per atomic)"
                                               : "no (the splat adds one pixel per atomic)");

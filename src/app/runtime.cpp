@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "host/output.h"
+#include "host/vulkan.h"
 
 namespace lava::app {
 
@@ -29,6 +30,10 @@ DeviceOptions deviceOptions(std::optional<unsigned> device) {
   source = "--device";
   options.validation = validationRequested();
   options.index = device;
+  if (const char* profile = std::getenv("LAVA_DEVICE_PROFILE");
+      profile && !host::applyDeviceProfile(options, profile))
+    throw host::UsageError(std::string("LAVA_DEVICE_PROFILE: expected ") + host::kDeviceProfiles +
+                           ", got '" + profile + "'");
   if (!device)
     if (const char* env = std::getenv("LAVA_DEVICE"); env && *env) {
       char* end = nullptr;

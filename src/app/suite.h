@@ -24,6 +24,7 @@ struct Case {
   uint64_t every = 0;  // 0: steps / 10
   uint32_t toleranceUlp = 0;
   std::optional<uint64_t> startSerial;  // every emitter's first serial (a serial near 2^32)
+  uint32_t chunkParticles = 0;          // GpuSimulationOptions::maxParticlesPerChunk
   // A case that must fail: after this step the CPU reference's first alive particle has
   // its vy nudged by one ULP (a check that the reports and the CI around them notice).
   std::optional<uint64_t> canary;
@@ -36,7 +37,8 @@ struct Case {
 std::vector<Case> loadSuite(const std::string& path);
 // Lava's own suite for `device`: every shape, force, collider and integrator, bursts,
 // lifetimes, fractional rates, a ring wrapping within one dispatch, more particles than one
-// binding holds on this device, a serial crossing 2^32, the denormal rule, all at once.
+// binding holds on the least device, a serial crossing 2^32, the denormal rule, all at once.
+// The same scenes on every device, so that their hashes compare across devices.
 std::vector<Case> builtinSuite(const Device& device);
 
 enum class Status { Pass, Fail, ExpectedFail, UnexpectedPass };
@@ -45,8 +47,7 @@ const char* statusName(Status status);
 // The CPU reference of `scene` (computed by `kernel`), nudged as `canary` says (or not at
 // all; a canary always runs the scalar reference).
 std::unique_ptr<Simulation> referenceFor(const Scene& scene, std::optional<uint64_t> canary,
-                                         unsigned threads,
-                                         CpuKernel kernel = CpuKernel::Reference);
+                                         unsigned threads, CpuKernel kernel = CpuKernel::Reference);
 
 struct CaseResult {
   std::string name;

@@ -111,6 +111,7 @@ class ValidateCommand final : public Command {
   void printDevice(const Device& device) const {
     std::printf("device: %s; %s\n", device.properties().deviceName, device.driver().c_str());
     std::printf("float controls: %s\n", device.floatControls().c_str());
+    std::printf("optional paths: %s\n", device.optionalPaths().c_str());
   }
 
   int single() {
@@ -140,19 +141,17 @@ class ValidateCommand final : public Command {
           const Comparison& c = point.comparison;
           progress.clear();
           char row[160];
-          std::snprintf(row, sizeof(row), "%10llu %10llu / %-8llu %10llu %14.6g %14.6g %10u\n",
-                        static_cast<unsigned long long>(point.step),
-                        static_cast<unsigned long long>(c.equal),
-                        static_cast<unsigned long long>(c.particles),
-                        static_cast<unsigned long long>(c.alive), double(c.maxDx),
-                        double(c.maxDv), c.maxUlp);
+          std::snprintf(
+              row, sizeof(row), "%10llu %10llu / %-8llu %10llu %14.6g %14.6g %10u\n",
+              static_cast<unsigned long long>(point.step), static_cast<unsigned long long>(c.equal),
+              static_cast<unsigned long long>(c.particles),
+              static_cast<unsigned long long>(c.alive), double(c.maxDx), double(c.maxDv), c.maxUlp);
           std::fputs(row, stdout);
-          std::snprintf(row, sizeof(row), "%llu,%llu,%llu,%llu,%.9g,%.9g,%u\n",
-                        static_cast<unsigned long long>(point.step),
-                        static_cast<unsigned long long>(c.equal),
-                        static_cast<unsigned long long>(c.particles),
-                        static_cast<unsigned long long>(c.alive), double(c.maxDx),
-                        double(c.maxDv), c.maxUlp);
+          std::snprintf(
+              row, sizeof(row), "%llu,%llu,%llu,%llu,%.9g,%.9g,%u\n",
+              static_cast<unsigned long long>(point.step), static_cast<unsigned long long>(c.equal),
+              static_cast<unsigned long long>(c.particles),
+              static_cast<unsigned long long>(c.alive), double(c.maxDx), double(c.maxDv), c.maxUlp);
           table += row;
           progress.update(point.step);
         });
@@ -190,7 +189,9 @@ class ValidateCommand final : public Command {
     const Scene scene = withFlags(c.scene);
     const uint64_t every = c.every ? c.every : std::max<uint64_t>(1, c.steps / 10);
     const auto start = std::chrono::steady_clock::now();
-    GpuSimulation gpu(device, scene);
+    GpuSimulationOptions options;
+    options.maxParticlesPerChunk = c.chunkParticles;
+    GpuSimulation gpu(device, scene, options);
     State initial = initialState(scene);
     if (c.startSerial)
       for (EmitterClock& clock : initial.clocks) clock.serial = *c.startSerial;

@@ -91,6 +91,7 @@ bool OffscreenTarget::hostColorSupported(const Device& device, VkFormat color) {
 
 std::optional<VkDeviceSize> OffscreenTarget::hostBytes(const Device& device, VkExtent2D extent,
                                                        VkFormat color) {
+  if (!hostColorSupported(device, color)) return {};  // the probe would be invalid
   VkDevice handle = device.handles().device;
   const OwnedImage probe = createHostColorImage(handle, extent, color);
   VkImageSubresource subresource{VK_IMAGE_ASPECT_COLOR_BIT, 0, 0};

@@ -46,7 +46,8 @@ class OffscreenTarget {
   // 0 when the device cannot import host memory (the extension was not enabled).
   static VkDeviceSize hostImportAlignment(const Device& device);
   static bool hostColorSupported(const Device& device, VkFormat color);
-  // The host memory such a target needs, or nothing when the device would pad its rows.
+  // The host memory such a target needs, or nothing when the device would pad its rows or
+  // cannot render into host memory (hostColorSupported).
   static std::optional<VkDeviceSize> hostBytes(const Device& device, VkExtent2D extent,
                                                VkFormat color);
 

@@ -190,4 +190,13 @@ void Submitter::endAndWait(VkCommandBuffer commands) const {
   }
 }
 
+bool applyDeviceProfile(DeviceOptions& options, const std::string& profile) {
+  if (profile.empty() || profile == "full") return true;
+  if (profile != "minimal") return false;
+  options.pushDescriptors = false;
+  options.int64Atomics = false;
+  options.floatControls = false;
+  return true;
+}
+
 }  // namespace lava::host

@@ -4,6 +4,7 @@
 #pragma once
 #include <vulkan/vulkan.h>
 
+#include <string>
 #include <utility>
 
 #include "lava/device.h"
@@ -110,6 +111,12 @@ class ReadbackBuffer {
   void* mapped_ = nullptr;
   bool coherent_ = true;
 };
+
+// A device profile by name: "full" (or empty: every optional path the device offers) or
+// "minimal" (none: descriptor sets instead of push descriptors, 32-bit atomics, no
+// float-control declarations), as a device that lacks them runs. False for another name.
+bool applyDeviceProfile(DeviceOptions& options, const std::string& profile);
+constexpr const char* kDeviceProfiles = "full or minimal";
 
 // One-time command buffers on the device's queue, each waited on.
 class Submitter {

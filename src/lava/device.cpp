@@ -74,6 +74,9 @@ void DeviceContext::submitAndWait(VkCommandBuffer commands) const {
 
 void DeviceContext::describe() {
   VkPhysicalDevice physical = handles.physicalDevice;
+  pushDescriptors = handles.pushDescriptors;
+  if (pushDescriptors && !vk.CmdPushDescriptorSetKHR)
+    throw ResourceError("the Vulkan driver does not provide vkCmdPushDescriptorSetKHR");
   vk.GetPhysicalDeviceProperties(physical, &properties);
   vk.GetPhysicalDeviceMemoryProperties(physical, &memory);
   VkPhysicalDeviceMaintenance3Properties maintenance3{
@@ -323,6 +326,9 @@ void createLogicalDevice(DeviceContext& c, const DeviceOptions& options) {
     if (offers(offered, wanted)) enabled.push_back(wanted);
   // A portability driver's subset must be enabled where it is offered.
   if (offers(offered, "VK_KHR_portability_subset")) enabled.push_back("VK_KHR_portability_subset");
+  c.handles.pushDescriptors =
+      options.pushDescriptors && offers(offered, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
+  if (c.handles.pushDescriptors) enabled.push_back(VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
   for (const char* e : enabled) c.extensions.emplace_back(e);
 
   float priority = 1.0f;
@@ -358,7 +364,7 @@ void createLogicalDevice(DeviceContext& c, const DeviceOptions& options) {
 }  // namespace
 
 DeviceRequirements deviceRequirements(uint32_t deviceApiVersion) {
-  DeviceRequirements r{VK_API_VERSION_1_2, {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME}, true, true};
+  DeviceRequirements r{VK_API_VERSION_1_2, {}, true, true, {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME}};
   if (deviceApiVersion < VK_API_VERSION_1_3)
     r.extensions.push_back(VK_KHR_DYNAMIC_RENDERING_EXTENSION_NAME);
   return r;
@@ -374,6 +380,10 @@ Device::Device(const DeviceOptions& options) : context_(std::make_unique<DeviceC
     createLogicalDevice(c, options);
     c.handles.getInstanceProcAddr = vkGetInstanceProcAddr;
     c.describe();
+    if (!options.floatControls) {
+      c.floatControls.shaderRoundingModeRTEFloat32 = VK_FALSE;
+      c.floatControls.shaderSignedZeroInfNanPreserveFloat32 = VK_FALSE;
+    }
     c.createPool();
   } catch (...) {
     c.release();
@@ -394,9 +404,14 @@ Device::Device(const DeviceHandles& borrowed) : context_(std::make_unique<Device
   if (borrowed.int64Atomics && !offersInt64Atomics(c.vk, c.handles.physicalDevice))
     throw InvalidArgument("int64Atomics",
                           "set, but the device offers no shaderInt64 or shaderBufferInt64Atomics");
+  const std::vector<VkExtensionProperties> offered =
+      deviceExtensions(c.vk, c.handles.physicalDevice);
+  if (borrowed.pushDescriptors && !offers(offered, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME))
+    throw InvalidArgument(
+        "pushDescriptors",
+        "set, but the device offers no " + std::string(VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME));
   c.vk.loadDevice(c.handles.device);
-  for (const VkExtensionProperties& e : deviceExtensions(c.vk, c.handles.physicalDevice))
-    c.extensions.emplace_back(e.extensionName);
+  for (const VkExtensionProperties& e : offered) c.extensions.emplace_back(e.extensionName);
   c.describe();
   c.createPool();
 }
@@ -451,6 +466,17 @@ std::string Device::floatControls() const {
          ", signed zero/inf/nan preserved " + yes(f.shaderSignedZeroInfNanPreserveFloat32) +
          ", denormals preserved " + yes(f.shaderDenormPreserveFloat32) + ", flushed " +
          yes(f.shaderDenormFlushToZeroFloat32);
+}
+
+std::string Device::optionalPaths() const {
+  const DeviceContext& c = *context_;
+  auto yes = [](bool b) { return b ? "yes" : "no"; };
+  return std::string("push descriptors ") +
+         (c.pushDescriptors ? "yes" : "no (descriptor sets per frame slot)") + ", 64-bit atomics " +
+         yes(c.handles.int64Atomics) + ", RTE declared " +
+         yes(c.floatControls.shaderRoundingModeRTEFloat32) + ", signed zero declared " +
+         yes(c.floatControls.shaderSignedZeroInfNanPreserveFloat32) + ", texel view " +
+         std::to_string(c.limits.maxTexelBufferElements) + " texels";
 }
 
 uint32_t Device::particlesPerChunk() const {

@@ -81,14 +81,19 @@ struct LineRenderer::Impl {
   std::vector<detail::UniqueBufferView> accumulationTexels;  // their views, if sumsAsTexels
   std::vector<Buffer> marks;  // per frame slot: the resolve tiles lines were added to
   std::vector<GlowSlot> glow;
+  // Per frame slot, without push descriptors: recordPrepare() starts the slot's frame.
+  mutable std::vector<detail::DescriptorArena> sets;
 
   Impl(detail::DeviceContext& context, const RenderFormats& f, uint32_t frames)
       : c(context), formats(f), framesInFlight(frames) {}
 
   void createSizedPipelines(bool sumsTexels, bool cellsTexels);
+  void createDescriptorArenas() {
+    sets.clear();
+    for (uint32_t f = 0; f < framesInFlight; ++f) sets.emplace_back(c);
+  }
   // Slot `frame`'s sums, bound at `binding` as the draws read them.
-  detail::PushDescriptors& sums(detail::PushDescriptors& d, uint32_t binding,
-                                uint32_t frame) const {
+  detail::Descriptors& sums(detail::Descriptors& d, uint32_t binding, uint32_t frame) const {
     return sumsAsTexels
                ? d.texels(binding, accumulationTexels[frame])
                : d.buffer(binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, accumulation[frame].get());
@@ -111,8 +116,9 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_
                           "expected 1 to 16, got " + std::to_string(framesInFlight));
   Impl& m = *impl_;
   const detail::DeviceContext& c = m.c;
-  m.lineSet = detail::createPushLayout(c, {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
-                                       VK_SHADER_STAGE_VERTEX_BIT);
+  m.createDescriptorArenas();
+  m.lineSet = detail::createSetLayout(c, {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+                                      VK_SHADER_STAGE_VERTEX_BIT);
   m.lineLayout = detail::createPipelineLayout(c, m.lineSet, kDrawStages, sizeof(gpu::DrawParams));
   detail::GraphicsPipelineDesc lines{LAVA_SPIRV(spirv::kLinesVertSpv),
                                      LAVA_SPIRV(spirv::kLinesFragSpv), formats.color,
@@ -126,7 +132,7 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_
   m.lavaLines = detail::createGraphicsPipeline(c, m.lineLayout, lines);
 
   m.nearest = detail::createSampler(c, VK_FILTER_NEAREST);
-  m.splatSet = detail::createPushLayout(
+  m.splatSet = detail::createSetLayout(
       c,
       {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
        VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
@@ -138,7 +144,7 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_
       c, m.splatLayout,
       c.handles.int64Atomics ? LAVA_SPIRV(spirv::kSplatPairsSpv) : LAVA_SPIRV(spirv::kSplatCompSpv),
       {gpu::kWorkgroupSize});
-  m.glowSet = detail::createPushLayout(
+  m.glowSet = detail::createSetLayout(
       c,
       {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
@@ -197,8 +203,8 @@ const LookSettings& LineRenderer::settings() const {
 // them too) or the glow's cells (its light pass, its quads), for each read through a texel
 // view or as a storage buffer.
 void LineRenderer::Impl::createSizedPipelines(bool sumsTexels, bool cellsTexels) {
-  resolveSet = detail::createPushLayout(c, {readAs(sumsTexels), VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-                                        kDrawStages);
+  resolveSet = detail::createSetLayout(c, {readAs(sumsTexels), VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                                       kDrawStages);
   resolveLayout =
       detail::createPipelineLayout(c, resolveSet, kDrawStages, sizeof(gpu::SplatParams));
   detail::GraphicsPipelineDesc resolve{
@@ -213,7 +219,7 @@ void LineRenderer::Impl::createSizedPipelines(bool sumsTexels, bool cellsTexels)
   resolve.screen = true;
   lavaResolve = detail::createGraphicsPipeline(c, resolveLayout, resolve);
 
-  glowDrawSet = detail::createPushLayout(
+  glowDrawSet = detail::createSetLayout(
       c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, readAs(cellsTexels), readAs(sumsTexels)}, kDrawStages);
   glowDrawLayout =
       detail::createPipelineLayout(c, glowDrawSet, kDrawStages, sizeof(gpu::GlowParams));
@@ -242,6 +248,7 @@ void LineRenderer::setExtent(VkExtent2D extent) {
   if (extent.width == m.extent.width && extent.height == m.extent.height) return;
   if (extent.width == 0 || extent.height == 0)
     throw InvalidArgument("extent", "expected a non-empty size");
+  m.createDescriptorArenas();  // sets of the old layouts name the old buffers
   m.accumulationTexels.clear();
   m.accumulation.clear();
   m.marks.clear();
@@ -342,13 +349,13 @@ void LineRenderer::Impl::recordSplat(VkCommandBuffer commands, uint32_t frame,
   params.target.w = depth ? 1u : 0u;
   for (const ParticleChunk& chunk : simulation.chunks()) {
     params.target.z = chunk.count;
-    detail::PushDescriptors()
+    detail::Descriptors()
         .texels(gpu::kSplatParticleBinding, chunk.texels)
         .buffer(gpu::kSplatSumsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sums.get())
         .image(gpu::kSplatDepthBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
                depth ? depth : noDepth.view.get(), VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL)
         .buffer(gpu::kSplatMarksBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, marks[frame].get())
-        .push(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, splatLayout);
+        .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, splatLayout, splatSet, sets[frame]);
     c.vk.CmdPushConstants(commands, splatLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
                           &params);
     c.vk.CmdDispatch(commands, detail::groupCount(chunk.count, gpu::kWorkgroupSize), 1, 1);
@@ -359,7 +366,7 @@ void LineRenderer::Impl::recordSplat(VkCommandBuffer commands, uint32_t frame,
 void LineRenderer::Impl::bindGlow(VkCommandBuffer commands, uint32_t frame, VkBufferView particles,
                                   const gpu::GlowParams& params) const {
   const GlowSlot& g = glow[frame];
-  detail::PushDescriptors descriptors;
+  detail::Descriptors descriptors;
   descriptors.texels(gpu::kGlowParticlesBinding, particles)
       .buffer(gpu::kGlowSumsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.sums.get())
       .buffer(gpu::kGlowLightBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.light.get())
@@ -368,7 +375,7 @@ void LineRenderer::Impl::bindGlow(VkCommandBuffer commands, uint32_t frame, VkBu
   // Without texel views of the cells the light pass reads the sums' buffer (binding 1) and
   // no module uses this binding.
   if (cellsAsTexels) descriptors.texels(gpu::kGlowSumTexelsBinding, g.sumTexels);
-  descriptors.push(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowLayout);
+  descriptors.bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowLayout, glowSet, sets[frame]);
   c.vk.CmdPushConstants(commands, glowLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
                         &params);
 }
@@ -426,6 +433,7 @@ void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
       VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT |
           VK_PIPELINE_STAGE_TRANSFER_BIT,
       VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+  m.sets[frame].reset();  // the slot's previous frame has finished
   if (!splat && !glow) return;
   if (splat) {
     m.c.vk.CmdFillBuffer(commands, m.accumulation[frame].get(), 0, VK_WHOLE_SIZE, 0);
@@ -478,19 +486,21 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
                            lava ? m.lavaLines : m.plainLines);
     m.c.vk.CmdPushConstants(commands, m.lineLayout, kDrawStages, 0, sizeof(params), &params);
     for (const ParticleChunk& chunk : simulation.chunks()) {
-      detail::PushDescriptors()
+      detail::Descriptors()
           .texels(gpu::kParticleBinding, chunk.texels)
-          .push(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.lineLayout);
+          .bind(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.lineLayout, m.lineSet,
+                m.sets[frame]);
       m.c.vk.CmdDraw(commands, 2 * chunk.count, 1, 0, 0);
     }
   } else if (!glow) {
     const gpu::SplatParams params = splatParams(simulation, view, m.style, m.settings);
     m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
                            lava ? m.lavaResolve : m.plainResolve);
-    detail::PushDescriptors descriptors;
+    detail::Descriptors descriptors;
     m.sums(descriptors, gpu::kResolveSumsBinding, frame)
         .buffer(gpu::kResolveMarksBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m.marks[frame].get())
-        .push(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.resolveLayout);
+        .bind(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.resolveLayout, m.resolveSet,
+              m.sets[frame]);
     m.c.vk.CmdPushConstants(commands, m.resolveLayout, kDrawStages, 0, sizeof(params), &params);
     m.c.vk.CmdDraw(commands, 6 * m.tiles.x * m.tiles.y, 1, 0, 0);
   }
@@ -499,7 +509,7 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
   const gpu::GlowParams params = glowParams(simulation, view, m.settings, m.grid);
   m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
                          splat ? m.glowResolve : m.glowDraw);
-  detail::PushDescriptors descriptors;
+  detail::Descriptors descriptors;
   descriptors.buffer(gpu::kGlowDrawListBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.list.get());
   if (m.cellsAsTexels)
     descriptors.texels(gpu::kGlowDrawLightBinding, g.lightTexels);
@@ -507,7 +517,8 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
     descriptors.buffer(gpu::kGlowDrawLightBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                        g.light.get());
   if (splat) m.sums(descriptors, gpu::kGlowDrawSumsBinding, frame);
-  descriptors.push(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.glowDrawLayout);
+  descriptors.bind(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.glowDrawLayout, m.glowDrawSet,
+                   m.sets[frame]);
   m.c.vk.CmdPushConstants(commands, m.glowDrawLayout, kDrawStages, 0, sizeof(params), &params);
   m.c.vk.CmdDrawIndirect(commands, g.list.get(), 0, 1, sizeof(VkDrawIndirectCommand));
 }

@@ -142,6 +142,7 @@ struct GpuSimulation::Impl {
   std::vector<ScheduleSlot> slots;  // framesInFlight frame slots, then the blocking slot
   detail::UniqueDescriptorSetLayout setLayout;
   detail::UniquePipelineLayout pipelineLayout;
+  std::vector<detail::DescriptorArena> descriptorSets;  // per slot, without push descriptors
   // One pipeline per set of modules a scene used (kept: a frame in flight may use it).
   std::map<detail::Constants, detail::UniquePipeline> pipelines;
   std::vector<EmitterClock> clocks;
@@ -182,7 +183,15 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
                                            " MiB; device '" + c.properties.deviceName +
                                            "' allows at most " + std::to_string(limit));
 
-  const uint32_t perChunk = device.particlesPerChunk();
+  uint32_t perChunk = device.particlesPerChunk();
+  if (options.maxParticlesPerChunk > 0) {
+    if (options.maxParticlesPerChunk < gpu::kWorkgroupSize)
+      throw InvalidArgument("maxParticlesPerChunk",
+                            "expected 0 or at least " + std::to_string(gpu::kWorkgroupSize) +
+                                ", got " + std::to_string(options.maxParticlesPerChunk));
+    perChunk = std::min(perChunk, options.maxParticlesPerChunk -
+                                      options.maxParticlesPerChunk % gpu::kWorkgroupSize);
+  }
   for (uint64_t first = 0; first < total; first += perChunk) {
     const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(perChunk, total - first));
     m.buffers.emplace_back(c, VkDeviceSize{count} * kParticleBytes,
@@ -210,11 +219,12 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
                       c.limits.minStorageBufferOffsetAlignment);
     sceneOffset += alignUp(sizeof(gpu::SceneParams), c.limits.minUniformBufferOffsetAlignment);
     m.slots.push_back(std::move(slot));
+    m.descriptorSets.emplace_back(c);
   }
   m.schedule = Buffer(c, offset, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload);
   m.sceneParams = Buffer(c, sceneOffset, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemoryUse::Upload);
 
-  m.setLayout = detail::createPushLayout(
+  m.setLayout = detail::createSetLayout(
       c,
       {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
        VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
@@ -308,6 +318,7 @@ void GpuSimulation::Impl::plan(const Scene& scene, uint32_t index, uint32_t step
 void GpuSimulation::Impl::record(const Scene& scene, VkCommandBuffer commands, uint32_t index) {
   ScheduleSlot& slot = slots[index];
   if (slot.planned == 0) return;
+  descriptorSets[index].reset();  // the slot's previous submission has finished
   VkPipeline bound = VK_NULL_HANDLE;
   gpu::StepParams params{};
   params.run.z = slot.capacity;
@@ -336,7 +347,7 @@ void GpuSimulation::Impl::record(const Scene& scene, VkCommandBuffer commands, u
     params.run.y = steps;
     for (const ParticleChunk& chunk : chunks) {
       params.chunk = {static_cast<uint32_t>(chunk.first), chunk.count, 0u, 0u};
-      detail::PushDescriptors()
+      detail::Descriptors()
           .buffer(gpu::kParticleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, chunk.buffer, 0,
                   chunk.count * kParticleBytes)
           .buffer(gpu::kScheduleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, schedule.get(),
@@ -344,7 +355,8 @@ void GpuSimulation::Impl::record(const Scene& scene, VkCommandBuffer commands, u
           .texels(gpu::kParticleTexelBinding, chunk.texels)
           .buffer(gpu::kSceneBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, sceneParams.get(),
                   slot.sceneOffset, sizeof(gpu::SceneParams))
-          .push(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout);
+          .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout, setLayout,
+                descriptorSets[index]);
       const uint64_t invocations =
           (uint64_t{chunk.count} + gpu::kParticlesPerInvocation - 1) / gpu::kParticlesPerInvocation;
       const uint32_t groups = detail::groupCount(invocations, gpu::kWorkgroupSize);

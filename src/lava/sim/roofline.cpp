@@ -40,7 +40,7 @@ std::vector<std::pair<uint64_t, uint32_t>> chunkRanges(Device& device, uint64_t 
 
 double gpuCopySeconds(Device& device, uint64_t particles, int passes) {
   const detail::DeviceContext& c = device.context();
-  const auto setLayout = detail::createPushLayout(
+  const auto setLayout = detail::createSetLayout(
       c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
       VK_SHADER_STAGE_COMPUTE_BIT);
   const auto layout =
@@ -61,7 +61,9 @@ double gpuCopySeconds(Device& device, uint64_t particles, int passes) {
   }
   const detail::TimestampPair timer(c);
   std::vector<double> times;
+  detail::DescriptorArena sets(c);
   for (int pass = -1; pass < passes; ++pass) {  // pass -1 warms up
+    sets.reset();                               // the previous pass has finished
     c.submitNow([&](VkCommandBuffer commands) {
       // WAW: the previous pass wrote the destination this one overwrites.
       detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
@@ -71,11 +73,11 @@ double gpuCopySeconds(Device& device, uint64_t particles, int passes) {
       c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
       for (const Chunk& chunk : chunks) {
         const glm::uvec4 range{0u, chunk.count, 0u, 0u};
-        detail::PushDescriptors()
+        detail::Descriptors()
             .buffer(gpu::kCopySourceBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, chunk.source.get())
             .buffer(gpu::kCopyDestinationBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                     chunk.destination.get())
-            .push(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout);
+            .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, setLayout, sets);
         c.vk.CmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(range),
                               &range);
         c.vk.CmdDispatch(commands, detail::groupCount(chunk.count, gpu::kWorkgroupSize), 1, 1);
@@ -158,7 +160,7 @@ double gpuComputeUpdatesPerSecond(Device& device, const Scene& scene,
                                   const std::vector<Particle>& start, uint32_t steps, int passes) {
   const uint64_t particles = start.size();
   const detail::DeviceContext& c = device.context();
-  const auto setLayout = detail::createPushLayout(
+  const auto setLayout = detail::createSetLayout(
       c,
       {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
        VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
@@ -193,7 +195,9 @@ double gpuComputeUpdatesPerSecond(Device& device, const Scene& scene,
   }
   const detail::TimestampPair timer(c);
   std::vector<double> times;
+  detail::DescriptorArena sets(c);
   for (int pass = -1; pass < passes; ++pass) {  // pass -1 warms up
+    sets.reset();                               // the previous pass has finished
     c.submitNow([&](VkCommandBuffer commands) {
       // Each pass from the start state, so it steps what the timed run stepped (WAW/WAR: the
       // previous pass read and wrote the particles).
@@ -213,13 +217,13 @@ double gpuComputeUpdatesPerSecond(Device& device, const Scene& scene,
         gpu::StepParams push{};
         push.run = {0u, pass < 0 ? std::min(steps, 64u) : steps, 0u, 0u};
         push.chunk = {0u, chunk.count, 0u, 0u};
-        detail::PushDescriptors()
-            .buffer(gpu::kParticleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                    chunk.particles.get(), 0, VkDeviceSize{chunk.count} * sizeof(Particle))
+        detail::Descriptors()
+            .buffer(gpu::kParticleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, chunk.particles.get(),
+                    0, VkDeviceSize{chunk.count} * sizeof(Particle))
             .texels(gpu::kParticleTexelBinding, chunk.texels.get())
             .buffer(gpu::kSceneBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params.get(), 0,
                     sizeof(gpu::SceneParams))
-            .push(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout);
+            .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, setLayout, sets);
         c.vk.CmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push),
                               &push);
         const uint64_t invocations = (uint64_t{chunk.count} + gpu::kParticlesPerInvocation - 1) /

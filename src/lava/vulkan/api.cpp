@@ -40,6 +40,8 @@ void Vk::loadDevice(VkDevice device) {
   require(name, #name);
   LAVA_VK_DEVICE(LAVA_VK_LOAD)
 #undef LAVA_VK_LOAD
+  CmdPushDescriptorSetKHR = reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(
+      GetDeviceProcAddr(device, "vkCmdPushDescriptorSetKHR"));
 }
 
 }  // namespace lava::detail

@@ -56,6 +56,10 @@ namespace lava::detail {
   X(DestroyShaderModule)          \
   X(CreateDescriptorSetLayout)    \
   X(DestroyDescriptorSetLayout)   \
+  X(CreateDescriptorPool)         \
+  X(DestroyDescriptorPool)        \
+  X(AllocateDescriptorSets)       \
+  X(UpdateDescriptorSets)         \
   X(CreatePipelineLayout)         \
   X(DestroyPipelineLayout)        \
   X(CreateComputePipelines)       \
@@ -75,7 +79,7 @@ namespace lava::detail {
   X(GetQueryPoolResults)          \
   X(CmdBindPipeline)              \
   X(CmdPushConstants)             \
-  X(CmdPushDescriptorSetKHR)      \
+  X(CmdBindDescriptorSets)        \
   X(CmdDispatch)                  \
   X(CmdPipelineBarrier)           \
   X(CmdCopyBuffer)                \
@@ -97,6 +101,8 @@ struct Vk {
   // Only with the validation layer (Lava's own instance).
   PFN_vkCreateDebugUtilsMessengerEXT CreateDebugUtilsMessengerEXT = nullptr;
   PFN_vkDestroyDebugUtilsMessengerEXT DestroyDebugUtilsMessengerEXT = nullptr;
+  // Only where VK_KHR_push_descriptor is enabled (DeviceContext::pushDescriptors).
+  PFN_vkCmdPushDescriptorSetKHR CmdPushDescriptorSetKHR = nullptr;
 
   void loadGlobal(PFN_vkGetInstanceProcAddr getInstanceProcAddr);
   void loadInstance(VkInstance instance);

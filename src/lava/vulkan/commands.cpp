@@ -7,16 +7,16 @@
 
 namespace lava::detail {
 
-UniqueDescriptorSetLayout createPushLayout(const DeviceContext& c,
-                                           std::initializer_list<VkDescriptorType> types,
-                                           VkShaderStageFlags stages, VkSampler sampler) {
+UniqueDescriptorSetLayout createSetLayout(const DeviceContext& c,
+                                          std::initializer_list<VkDescriptorType> types,
+                                          VkShaderStageFlags stages, VkSampler sampler) {
   std::vector<VkDescriptorSetLayoutBinding> bindings;
   for (VkDescriptorType type : types)
-    bindings.push_back({static_cast<uint32_t>(bindings.size()), type, 1, stages,
-                        type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER && sampler ? &sampler
-                                                                                    : nullptr});
+    bindings.push_back(
+        {static_cast<uint32_t>(bindings.size()), type, 1, stages,
+         type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER && sampler ? &sampler : nullptr});
   VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  info.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
+  if (c.pushDescriptors) info.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
   info.bindingCount = static_cast<uint32_t>(bindings.size());
   info.pBindings = bindings.data();
   VkDescriptorSetLayout layout = VK_NULL_HANDLE;
@@ -50,8 +50,8 @@ UniquePipelineLayout createPipelineLayout(const DeviceContext& c, VkDescriptorSe
   return UniquePipelineLayout(c, layout);
 }
 
-VkWriteDescriptorSet& PushDescriptors::next(uint32_t binding, VkDescriptorType type) {
-  if (count_ == kMax) throw std::logic_error("PushDescriptors: too many writes");
+VkWriteDescriptorSet& Descriptors::next(uint32_t binding, VkDescriptorType type) {
+  if (count_ == kMax) throw std::logic_error("Descriptors: too many writes");
   VkWriteDescriptorSet& w = writes_[count_];
   w = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
   w.dstBinding = binding;
@@ -60,33 +60,83 @@ VkWriteDescriptorSet& PushDescriptors::next(uint32_t binding, VkDescriptorType t
   return w;
 }
 
-PushDescriptors& PushDescriptors::buffer(uint32_t binding, VkDescriptorType type, VkBuffer buffer,
-                                         VkDeviceSize offset, VkDeviceSize range) {
+Descriptors& Descriptors::buffer(uint32_t binding, VkDescriptorType type, VkBuffer buffer,
+                                 VkDeviceSize offset, VkDeviceSize range) {
   buffers_[count_] = {buffer, offset, range};
   next(binding, type).pBufferInfo = &buffers_[count_];
   ++count_;
   return *this;
 }
 
-PushDescriptors& PushDescriptors::texels(uint32_t binding, VkBufferView view) {
+Descriptors& Descriptors::texels(uint32_t binding, VkBufferView view) {
   views_[count_] = view;
   next(binding, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER).pTexelBufferView = &views_[count_];
   ++count_;
   return *this;
 }
 
-PushDescriptors& PushDescriptors::image(uint32_t binding, VkDescriptorType type, VkImageView view,
-                                        VkImageLayout layout, VkSampler sampler) {
+Descriptors& Descriptors::image(uint32_t binding, VkDescriptorType type, VkImageView view,
+                                VkImageLayout layout, VkSampler sampler) {
   images_[count_] = {sampler, view, layout};
   next(binding, type).pImageInfo = &images_[count_];
   ++count_;
   return *this;
 }
 
-void PushDescriptors::push(const DeviceContext& c, VkCommandBuffer commands,
-                           VkPipelineBindPoint point, VkPipelineLayout layout) const {
-  c.vk.CmdPushDescriptorSetKHR(commands, point, layout, 0, static_cast<uint32_t>(count_),
-                               writes_.data());
+void Descriptors::bind(const DeviceContext& c, VkCommandBuffer commands, VkPipelineBindPoint point,
+                       VkPipelineLayout layout, VkDescriptorSetLayout setLayout,
+                       DescriptorArena& arena) const {
+  if (c.pushDescriptors) {
+    c.vk.CmdPushDescriptorSetKHR(commands, point, layout, 0, static_cast<uint32_t>(count_),
+                                 writes_.data());
+    return;
+  }
+  // Written afresh every time: a handle equal to the set's last one may name a new object.
+  const VkDescriptorSet set = arena.take(setLayout);
+  std::array<VkWriteDescriptorSet, kMax> writes = writes_;
+  for (size_t i = 0; i < count_; ++i) writes[i].dstSet = set;
+  c.vk.UpdateDescriptorSets(c.device(), static_cast<uint32_t>(count_), writes.data(), 0, nullptr);
+  c.vk.CmdBindDescriptorSets(commands, point, layout, 0, 1, &set, 0, nullptr);
+}
+
+void DescriptorArena::reset() {
+  for (auto& entry : byLayout_) entry.second.used = 0;
+}
+
+VkDescriptorSet DescriptorArena::take(VkDescriptorSetLayout layout) {
+  Sets& sets = byLayout_[layout];
+  if (sets.used < sets.sets.size()) return sets.sets[sets.used++];
+  // Every layout Lava makes has at most eight bindings of these types.
+  constexpr uint32_t kSetsPerPool = 32;
+  VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  alloc.descriptorSetCount = 1;
+  alloc.pSetLayouts = &layout;
+  VkDescriptorSet set = VK_NULL_HANDLE;
+  VkResult result = VK_ERROR_OUT_OF_POOL_MEMORY;
+  if (!pools_.empty()) {
+    alloc.descriptorPool = pools_.back();
+    result = c_->vk.AllocateDescriptorSets(c_->device(), &alloc, &set);
+  }
+  if (result == VK_ERROR_OUT_OF_POOL_MEMORY || result == VK_ERROR_FRAGMENTED_POOL) {
+    const std::array<VkDescriptorPoolSize, 4> sizes{{
+        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 8 * kSetsPerPool},
+        {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 8 * kSetsPerPool},
+        {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 8 * kSetsPerPool},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 8 * kSetsPerPool},
+    }};
+    VkDescriptorPoolCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    info.maxSets = kSetsPerPool;
+    info.poolSizeCount = static_cast<uint32_t>(sizes.size());
+    info.pPoolSizes = sizes.data();
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    VK_CHECK(c_->vk.CreateDescriptorPool(c_->device(), &info, c_->allocator(), &pool));
+    pools_.emplace_back(*c_, pool);
+    alloc.descriptorPool = pool;
+    result = c_->vk.AllocateDescriptorSets(c_->device(), &alloc, &set);
+  }
+  VK_CHECK_RESULT(result, "vkAllocateDescriptorSets");
+  sets.sets.push_back(set);
+  return sets.sets[sets.used++];
 }
 
 void memoryBarrier(const DeviceContext& c, VkCommandBuffer commands, VkPipelineStageFlags srcStage,

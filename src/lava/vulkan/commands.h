@@ -1,37 +1,66 @@
-// Descriptors and barriers as Lava records them: push descriptors (no pools, no sets: each
-// consumer pushes the buffers it reads), and one helper per barrier kind. Callers name the
-// hazard of each barrier in a comment.
+// Descriptors and barriers as Lava records them: push descriptors where the device offers
+// them (no pools, no sets: each consumer pushes the buffers it reads), else sets written
+// from a per-frame-slot arena; and one helper per barrier kind. Callers name the hazard of
+// each barrier in a comment.
 #pragma once
 #include <array>
 #include <initializer_list>
+#include <unordered_map>
+#include <vector>
 
 #include "device_context.h"
 #include "unique.h"
 
 namespace lava::detail {
 
-// A push-descriptor set layout: binding b of types[b], each visible to `stages`; combined
-// image samplers use `sampler` (immutable) when it is given.
-UniqueDescriptorSetLayout createPushLayout(const DeviceContext& context,
-                                           std::initializer_list<VkDescriptorType> types,
-                                           VkShaderStageFlags stages,
-                                           VkSampler sampler = VK_NULL_HANDLE);
+// A set layout for Descriptors::bind (a push-descriptor layout where the device has push
+// descriptors): binding b of types[b], each visible to `stages`; combined image samplers
+// use `sampler` (immutable) when it is given.
+UniqueDescriptorSetLayout createSetLayout(const DeviceContext& context,
+                                          std::initializer_list<VkDescriptorType> types,
+                                          VkShaderStageFlags stages,
+                                          VkSampler sampler = VK_NULL_HANDLE);
 // A sampler clamping to the edge, with `filter` for both magnification and minification.
 UniqueSampler createSampler(const DeviceContext& context, VkFilter filter);
 // One set layout (or none) and one push-constant range of `pushBytes` for `pushStages`.
 UniquePipelineLayout createPipelineLayout(const DeviceContext& context, VkDescriptorSetLayout set,
                                           VkShaderStageFlags pushStages, uint32_t pushBytes);
 
-// Up to eight descriptor writes, pushed at once.
-class PushDescriptors {
+// Descriptor sets for a device without push descriptors, one arena per frame slot: each
+// bind takes the next set of its layout and writes it afresh. Sets are allocated from the
+// arena's own pools the first time a slot needs that many and kept; reset() makes them
+// available again once the work recorded with them has finished (a command buffer recorded
+// with them cannot be submitted again after that). Empty where push descriptors are used.
+class DescriptorArena {
  public:
-  PushDescriptors& buffer(uint32_t binding, VkDescriptorType type, VkBuffer buffer,
-                          VkDeviceSize offset = 0, VkDeviceSize range = VK_WHOLE_SIZE);
-  PushDescriptors& texels(uint32_t binding, VkBufferView view);
-  PushDescriptors& image(uint32_t binding, VkDescriptorType type, VkImageView view,
-                         VkImageLayout layout, VkSampler sampler = VK_NULL_HANDLE);
-  void push(const DeviceContext& context, VkCommandBuffer commands, VkPipelineBindPoint point,
-            VkPipelineLayout layout) const;
+  DescriptorArena() = default;
+  explicit DescriptorArena(const DeviceContext& context) : c_(&context) {}
+  DescriptorArena(DescriptorArena&&) noexcept = default;
+  DescriptorArena& operator=(DescriptorArena&&) noexcept = default;
+  void reset();
+  VkDescriptorSet take(VkDescriptorSetLayout layout);
+
+ private:
+  struct Sets {
+    std::vector<VkDescriptorSet> sets;
+    size_t used = 0;
+  };
+  const DeviceContext* c_ = nullptr;
+  std::vector<UniqueDescriptorPool> pools_;  // destroying a pool frees its sets
+  std::unordered_map<VkDescriptorSetLayout, Sets> byLayout_;
+};
+
+// Up to eight descriptor writes, bound at once: pushed, or written into a set of `arena`.
+class Descriptors {
+ public:
+  Descriptors& buffer(uint32_t binding, VkDescriptorType type, VkBuffer buffer,
+                      VkDeviceSize offset = 0, VkDeviceSize range = VK_WHOLE_SIZE);
+  Descriptors& texels(uint32_t binding, VkBufferView view);
+  Descriptors& image(uint32_t binding, VkDescriptorType type, VkImageView view,
+                     VkImageLayout layout, VkSampler sampler = VK_NULL_HANDLE);
+  // Binds the writes as set 0 of `layout`, whose set layout is `setLayout`.
+  void bind(const DeviceContext& context, VkCommandBuffer commands, VkPipelineBindPoint point,
+            VkPipelineLayout layout, VkDescriptorSetLayout setLayout, DescriptorArena& arena) const;
 
  private:
   static constexpr size_t kMax = 8;

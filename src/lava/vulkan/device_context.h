@@ -30,6 +30,7 @@ struct DeviceContext {
   VkDeviceSize maxAllocation = 0;        // min(maxMemoryAllocationSize, largest heap)
   VkDeviceSize deviceLocal = 0;          // the largest device-local heap
   VkDeviceSize hostImportAlignment = 0;  // VK_EXT_external_memory_host, 0 when not enabled
+  bool pushDescriptors = false;          // VK_KHR_push_descriptor enabled: no descriptor sets
 
   VkCommandPool pool = VK_NULL_HANDLE;  // for blocking helpers
 

@@ -38,6 +38,9 @@ inline DestroyFn<VkShaderModule> destroyFn(const Vk& vk, VkShaderModule) {
 inline DestroyFn<VkDescriptorSetLayout> destroyFn(const Vk& vk, VkDescriptorSetLayout) {
   return vk.DestroyDescriptorSetLayout;
 }
+inline DestroyFn<VkDescriptorPool> destroyFn(const Vk& vk, VkDescriptorPool) {
+  return vk.DestroyDescriptorPool;
+}
 inline DestroyFn<VkPipelineLayout> destroyFn(const Vk& vk, VkPipelineLayout) {
   return vk.DestroyPipelineLayout;
 }
@@ -101,6 +104,7 @@ using UniqueImageView = Unique<VkImageView>;
 using UniqueSampler = Unique<VkSampler>;
 using UniqueShaderModule = Unique<VkShaderModule>;
 using UniqueDescriptorSetLayout = Unique<VkDescriptorSetLayout>;
+using UniqueDescriptorPool = Unique<VkDescriptorPool>;
 using UniquePipelineLayout = Unique<VkPipelineLayout>;
 using UniquePipeline = Unique<VkPipeline>;
 using UniqueCommandPool = Unique<VkCommandPool>;
