@@ -8,6 +8,7 @@ set -euo pipefail
 build=$1
 source=$2
 flags=${3:-}  # compiler flags the examples need too (a sanitized build's)
+# ${@:4}: ICD manifests of further implementations to run the embed example on
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 prefix=$work/prefix
@@ -29,6 +30,12 @@ for example in embed headless; do
   echo "$out"
 done
 echo "$out" | grep -q "bit-identical" || { echo "FAIL: headless did not compare"; exit 1; }
+
+# The embed example on the other Vulkan implementations given (tests/drivers), each its own
+# instance and device with the validation layer (a message fails it).
+for icd in "${@:4}"; do
+  VK_DRIVER_FILES=$icd VK_ICD_FILENAMES=$icd "$work/embed/lava_embed"
+done
 
 # One file and pkg-config, as a Makefile would do it.
 export PKG_CONFIG_PATH=$prefix/lib/pkgconfig

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs Lava's build and test dependencies from Debian packages, only those missing.
+# Installs Lava's build and test dependencies from Debian packages, only those missing, and
+# fetches lavapipe 25 and SwiftShader into a private folder for the tests (fetch-drivers.sh).
 # Safe to run again; uses sudo when not root. Nothing is downloaded except by apt.
 set -euo pipefail
 
@@ -17,10 +18,13 @@ missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
 done
-[ ${#missing[@]} -eq 0 ] && exit 0
+if [ ${#missing[@]} -gt 0 ]; then
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  echo "third_party: installing ${missing[*]}"
+  $sudo env DEBIAN_FRONTEND=noninteractive apt-get update -qq
+  $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
 
-sudo=""
-[ "$(id -u)" -eq 0 ] || sudo="sudo"
-echo "third_party: installing ${missing[*]}"
-$sudo env DEBIAN_FRONTEND=noninteractive apt-get update -qq
-$sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+# The other Vulkan implementations the tests run on, into a private folder (cached).
+"$(dirname "$0")/fetch-drivers.sh"

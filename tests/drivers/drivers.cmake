@@ -1,0 +1,100 @@
+# Included by tests/CMakeLists.txt. Every conforming implementation CI has (SPEC §5): lavapipe 22.3 (the default), lavapipe
+# 25.0 and SwiftShader, which third_party/fetch-drivers.sh fetches into LAVA_DRIVERS_DIR,
+# and lavapipe 22.3 in the minimal device profile (no push descriptors, 64-bit atomics or
+# float-control declarations: the fallbacks, on any machine). On each, with validation on:
+# the builtin suite against the CPU, its hashes against the other drivers', the GPU tests,
+# both renderers' frames against lavapipe 22.3's, the embed example (Install.*) and the
+# demo, headless.
+set(LAVA_DRIVERS_DIR "$ENV{HOME}/.cache/lava/drivers" CACHE PATH
+    "Where third_party/fetch-drivers.sh put lavapipe 25 and SwiftShader")
+if(DEFINED ENV{LAVA_DRIVERS_DIR})
+  set(LAVA_DRIVERS_DIR "$ENV{LAVA_DRIVERS_DIR}")
+endif()
+set(lavapipe25 ${LAVA_DRIVERS_DIR}/lavapipe-25.json)
+set(swiftshader ${LAVA_DRIVERS_DIR}/swiftshader.json)
+set(LAVA_DRIVER_NAMES Lavapipe22 Minimal)
+if(EXISTS ${lavapipe25} AND EXISTS ${swiftshader})
+  list(APPEND LAVA_DRIVER_NAMES Lavapipe25 SwiftShader)
+  set(LAVA_EXTRA_ICDS ${lavapipe25} ${swiftshader})  # the install test runs examples/embed on them
+elseif("$ENV{CI}" STREQUAL "true")
+  message(FATAL_ERROR "no drivers in ${LAVA_DRIVERS_DIR}: run third_party/fetch-drivers.sh")
+else()
+  message(WARNING "lavapipe 25 and SwiftShader are not in ${LAVA_DRIVERS_DIR}: their tests are "
+                  "not registered (third_party/install-deps.sh fetches them)")
+endif()
+
+set(env_Lavapipe22 VK_DRIVER_FILES=${LAVA_LAVAPIPE_ICD} VK_ICD_FILENAMES=${LAVA_LAVAPIPE_ICD})
+set(env_Minimal ${env_Lavapipe22} LAVA_DEVICE_PROFILE=minimal)
+set(env_Lavapipe25 VK_DRIVER_FILES=${lavapipe25} VK_ICD_FILENAMES=${lavapipe25})
+set(env_SwiftShader VK_DRIVER_FILES=${swiftshader} VK_ICD_FILENAMES=${swiftshader})
+# SwiftShader runs Lava's compute shaders 20-50x slower than lavapipe on two cores: there the
+# GPU tests are those of both renderers, the look and embedding; its builtin suite compares
+# every module with the CPU (Effects/Modules compare the same modules again: 5 minutes) and
+# crosses 129 chunks (GpuTest.ManyChunks* would cross 512). Left out too: the soak, 64-bit
+# atomics and host-memory render targets (SwiftShader has neither) and LookTest.DenseLava*
+# (3 minutes there).
+set(filter_SwiftShader
+    "GpuTest.Seed*:GpuTest.SerialCarry*:GpuTest.LoadAndState*:RenderTest.*:LookTest.*:GlowCells.*:EmbeddingDraw.*:-*Pairs*:*HostMemoryTarget*:*DenseLava*")
+
+# How far each one's frames may stray from lavapipe 22.3's, "N:L" (at most N pixels differ by
+# more than L levels) for the splat, then the lines; docs/drivers.md gives the measurements
+# and the causes: line rasterization, and the backdrop's fragment shading, which Vulkan
+# does not define to the bit.
+set(frames_Minimal 0:0 0:0)
+set(frames_Lavapipe25 0:0 200:0)
+set(frames_SwiftShader 2000:2 8000:2)
+
+add_executable(lava_image_diff ${CMAKE_CURRENT_LIST_DIR}/image_diff.cpp)
+target_link_libraries(lava_image_diff PRIVATE lava_stb lava_warnings)
+
+set(out ${CMAKE_CURRENT_BINARY_DIR}/drivers)
+file(MAKE_DIRECTORY ${out})
+set(script ${CMAKE_CURRENT_LIST_DIR}/drivers_test.sh)
+set(hashes "")
+foreach(name ${LAVA_DRIVER_NAMES})
+  set(env ${env_${name}} LAVA_VALIDATION=1)
+  # The builtin suite against the CPU at tolerance 0, recording its hashes.
+  add_test(NAME Drivers.${name}.BuiltinSuite
+           COMMAND $<TARGET_FILE:lava> validate --suite builtin --record ${out}/${name}.csv
+                   --junit ${out}/${name}.xml)
+  set_tests_properties(Drivers.${name}.BuiltinSuite PROPERTIES ENVIRONMENT "${env}"
+                       FIXTURES_SETUP hashes-${name} TIMEOUT 900 LABELS drivers)
+  list(APPEND hashes ${out}/${name}.csv)
+  # Both renderers' frames of the volcano, to be compared with lavapipe 22.3's.
+  add_test(NAME Drivers.${name}.RenderBothRenderers
+           COMMAND ${script} render $<TARGET_FILE:lava> ${PROJECT_SOURCE_DIR}/scenes
+                   ${out}/frames-${name})
+  set_tests_properties(Drivers.${name}.RenderBothRenderers PROPERTIES ENVIRONMENT "${env}"
+                       FIXTURES_SETUP frames-${name} TIMEOUT 600 LABELS drivers)
+  add_test(NAME Drivers.${name}.DemoHeadless
+           COMMAND $<TARGET_FILE:lava> demo --headless --frames 10 --size 320x180)
+  set_tests_properties(Drivers.${name}.DemoHeadless PROPERTIES ENVIRONMENT "${env}"
+                       WORKING_DIRECTORY ${out}/demo-${name} TIMEOUT 300 LABELS drivers)
+  file(MAKE_DIRECTORY ${out}/demo-${name})
+  if(NOT name STREQUAL "Lavapipe22")  # lavapipe 22.3's own GPU tests are lava_gpu_tests'
+    gtest_discover_tests(lava_gpu_tests TEST_PREFIX "Drivers.${name}." TEST_FILTER
+                         "${filter_${name}}" PROPERTIES ENVIRONMENT "${env}" LABELS drivers
+                         TIMEOUT 900 DISCOVERY_TIMEOUT 60)
+    add_test(NAME Drivers.${name}.FramesMatchLavapipe22
+             COMMAND ${script} compare $<TARGET_FILE:lava_image_diff> ${out}/frames-Lavapipe22
+                     ${out}/frames-${name} ${frames_${name}})
+    set_tests_properties(Drivers.${name}.FramesMatchLavapipe22 PROPERTIES
+                         FIXTURES_REQUIRED "frames-Lavapipe22;frames-${name}" LABELS drivers)
+  endif()
+endforeach()
+
+# GPU against GPU: every case's hashes equal on every driver, and `--against` one run.
+add_test(NAME Drivers.HashesAgreeAcrossDrivers COMMAND ${script} hashes ${hashes})
+set(fixtures "")
+foreach(name ${LAVA_DRIVER_NAMES})
+  list(APPEND fixtures hashes-${name})
+endforeach()
+set_tests_properties(Drivers.HashesAgreeAcrossDrivers PROPERTIES FIXTURES_REQUIRED "${fixtures}"
+                     LABELS drivers)
+if(Lavapipe25 IN_LIST LAVA_DRIVER_NAMES)
+  add_test(NAME Drivers.Lavapipe25.AgainstLavapipe22Hashes
+           COMMAND $<TARGET_FILE:lava> validate --suite builtin --against ${out}/Lavapipe22.csv)
+  set_tests_properties(Drivers.Lavapipe25.AgainstLavapipe22Hashes PROPERTIES
+                       ENVIRONMENT "${env_Lavapipe25};LAVA_VALIDATION=1"
+                       FIXTURES_REQUIRED hashes-Lavapipe22 TIMEOUT 600 LABELS drivers)
+endif()

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# The cross-driver checks of tests/drivers/CMakeLists.txt.
+#
+#   drivers_test.sh render LAVA SCENES OUT     the volcano, both renderers, into OUT/{lines,splat}
+#   drivers_test.sh compare DIFF BASE OTHER SPLAT LINES
+#                       OTHER's frames against BASE's (lavapipe 22.3's): at most SPLAT and
+#                       LINES pixels, each "N:L" (N pixels differing by more than L levels)
+#   drivers_test.sh hashes A.csv B.csv ...     every recording of the builtin suite is the same
+set -euo pipefail
+
+case "$1" in
+  render)
+    lava=$2 scenes=$3 out=$4
+    rm -rf "$out"
+    mkdir -p "$out"
+    for renderer in lines splat; do
+      "$lava" render --scene "$scenes/volcano.toml" --frames 1 --warmup 2 --renderer "$renderer" \
+              --out "$out/$renderer" >/dev/null
+    done
+    ;;
+  compare)
+    diff=$2 base=$3 other=$4
+    status=0
+    for check in "splat:$5" "lines:$6"; do
+      IFS=: read -r renderer pixels levels <<< "$check"
+      echo -n "$renderer (at most $pixels pixels beyond $levels levels): "
+      "$diff" "$base/$renderer/frame_00000.png" "$other/$renderer/frame_00000.png" "$pixels" \
+              "$levels" "$other/$renderer/differences.png" || status=1
+    done
+    exit $status
+    ;;
+  hashes)
+    shift
+    first=$1
+    shift
+    for other in "$@"; do
+      if ! cmp -s "$first" "$other"; then
+        echo "FAIL: $(basename "$other") differs from $(basename "$first"):"
+        diff "$first" "$other" | head -20
+        exit 1
+      fi
+    done
+    echo "the same $(($(wc -l < "$first") - 1)) hashes from $(($# + 1)) drivers"
+    ;;
+  *)
+    echo "drivers_test.sh: unknown check $1" >&2
+    exit 2
+    ;;
+esac
