@@ -163,6 +163,10 @@ TEST_P(Embedding, FramesInFlightWithChangingStepCountsMatchTheCpu) {
       const uint32_t count = (frame * 7) % 23;  // 0 some frames, up to 22
       VkCommandBuffer commands = frames.begin(slot);
       gpu.update(slot, count);
+      if (count > 0) {  // planning over steps not recorded yet would lose them
+        EXPECT_THROW(gpu.update(slot, count), InvalidArgument);
+        EXPECT_EQ(gpu.step(), steps + count);
+      }
       gpu.recordSimulate(commands, slot);
       gpu.recordSimulate(commands, slot);  // a second record of the same plan records nothing
       frames.submit(host.handles.queue, slot);
@@ -218,6 +222,51 @@ TEST_F(EmbeddingDraw, LinesLandInAHostImageOfAnotherChannelOrder) {
     }
     EXPECT_GT(lit, 100u);
   }
+}
+
+}  // namespace
+}  // namespace lava
+
+namespace lava {
+namespace {
+
+// An instance made without application info is Vulkan 1.0, which hides dynamic rendering
+// from a Vulkan 1.3 device: the error must name the instance's version and what Lava needs,
+// not blame the device.
+TEST(EmbeddingVersions, AnInstanceOfVulkan10IsNamedAsTheProblem) {
+  VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};  // no application info
+  VkInstance instance = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateInstance(&info, nullptr, &instance), VK_SUCCESS);
+  uint32_t count = 1;
+  VkPhysicalDevice physical = VK_NULL_HANDLE;
+  vkEnumeratePhysicalDevices(instance, &count, &physical);
+  ASSERT_EQ(count, 1u);
+  VkPhysicalDeviceProperties properties;
+  vkGetPhysicalDeviceProperties(physical, &properties);
+  EXPECT_GE(properties.apiVersion, VK_API_VERSION_1_3) << "the pinned drivers are Vulkan 1.3+";
+  float priority = 1.0f;
+  VkDeviceQueueCreateInfo queue{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+  queue.queueCount = 1;
+  queue.pQueuePriorities = &priority;
+  VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+  deviceInfo.queueCreateInfoCount = 1;
+  deviceInfo.pQueueCreateInfos = &queue;
+  DeviceHandles handles;
+  handles.instance = instance;
+  handles.physicalDevice = physical;
+  ASSERT_EQ(vkCreateDevice(physical, &deviceInfo, nullptr, &handles.device), VK_SUCCESS);
+  vkGetDeviceQueue(handles.device, 0, 0, &handles.queue);
+  try {
+    Device device(handles);
+    ADD_FAILURE() << "a Vulkan 1.0 instance was accepted";
+  } catch (const ResourceError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("instance"), std::string::npos) << what;
+    EXPECT_NE(what.find("1.0"), std::string::npos) << what;
+    EXPECT_NE(what.find("Vulkan 1.3"), std::string::npos) << what;
+  }
+  vkDestroyDevice(handles.device, nullptr);
+  vkDestroyInstance(instance, nullptr);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "lava/device.h"
+#include "lava/error.h"
 #include "lava/state.h"
 #include "vulkan/buffer.h"
 #include "vulkan/commands.h"
@@ -66,6 +67,37 @@ TEST_F(Harness, AnInvalidCallIsReportedByCoreValidation) {
   ASSERT_FALSE(messages.empty());
   EXPECT_NE(messages.front().find("VUID-VkBufferCreateInfo-size"), std::string::npos)
       << messages.front();
+}
+
+}  // namespace
+}  // namespace lava
+
+namespace lava {
+namespace {
+
+// The small promises of the internals the rest is built on.
+TEST_F(Harness, AMovedBufferLeavesItsSourceEmpty) {
+  const detail::DeviceContext& c = device_.context();
+  detail::Buffer upload(c, 256, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, detail::MemoryUse::Upload);
+  void* mapped = upload.mapped();
+  ASSERT_NE(mapped, nullptr);
+  detail::Buffer moved(std::move(upload));
+  EXPECT_EQ(moved.mapped(), mapped);
+  EXPECT_EQ(upload.mapped(), nullptr);  // NOLINT(bugprone-use-after-move): what is tested
+  EXPECT_EQ(upload.get(), VK_NULL_HANDLE);
+  EXPECT_EQ(upload.size(), 0u);
+  detail::Buffer assigned;
+  assigned = std::move(moved);
+  EXPECT_EQ(assigned.mapped(), mapped);
+  EXPECT_EQ(moved.mapped(), nullptr);  // NOLINT(bugprone-use-after-move)
+}
+
+TEST(Errors, AnUnlistedResultKeepsItsNumber) {
+  EXPECT_EQ(resultName(VK_ERROR_DEVICE_LOST), "VK_ERROR_DEVICE_LOST");
+  EXPECT_EQ(resultName(VK_ERROR_UNKNOWN), "VK_ERROR_UNKNOWN");
+  EXPECT_EQ(resultName(static_cast<VkResult>(-1000012345)), "VkResult -1000012345");
+  const VulkanError error(static_cast<VkResult>(-1000012345), "vkQueueSubmit", "x.cpp", 7);
+  EXPECT_NE(std::string(error.what()).find("-1000012345"), std::string::npos) << error.what();
 }
 
 }  // namespace

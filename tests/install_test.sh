@@ -31,6 +31,9 @@ for example in embed headless; do
 done
 echo "$out" | grep -q "bit-identical" || { echo "FAIL: headless did not compare"; exit 1; }
 
+# Validation turned on the usual way as well: the loader's notice about it is no failure.
+VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation "$work/embed/lava_embed" >/dev/null
+
 # The embed example on the other Vulkan implementations given (tests/drivers), each its own
 # instance and device with the validation layer (a message fails it).
 for icd in "${@:4}"; do
@@ -39,7 +42,10 @@ done
 
 # One file and pkg-config, as a Makefile would do it.
 export PKG_CONFIG_PATH=$prefix/lib/pkgconfig
-c++ "$source/examples/headless/headless.cpp" $flags $(pkg-config --cflags --libs lava) \
+if pkg-config --cflags lava | grep -q -- '-std='; then
+  echo "FAIL: lava.pc sets a language standard: $(pkg-config --cflags lava)"; exit 1
+fi
+c++ -std=c++20 "$source/examples/headless/headless.cpp" $flags $(pkg-config --cflags --libs lava) \
     -Wl,-rpath,"$prefix/lib" -o "$work/one-file"
 "$work/one-file"
 echo "PASS"

@@ -22,12 +22,17 @@ void check(VkResult result, const char* what) {
     throw std::runtime_error(std::string(what) + " failed: " + lava::resultName(result));
 }
 
-// The host's validation messages (the layer is used when it is installed).
+// The host's validation messages (the layer is used when it is installed). The loader's own
+// notices (general messages, such as "VK_INSTANCE_LAYERS ... adding layers") are shown, not
+// counted: they say how the instance was made, not that Lava misused Vulkan.
 std::vector<std::string> messages;
 VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT,
-                                         VkDebugUtilsMessageTypeFlagsEXT,
+                                         VkDebugUtilsMessageTypeFlagsEXT type,
                                          const VkDebugUtilsMessengerCallbackDataEXT* data, void*) {
-  messages.emplace_back(data->pMessage);
+  if (type & VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT)
+    messages.emplace_back(data->pMessage);
+  else
+    std::fprintf(stderr, "embed: note: %s\n", data->pMessage);
   return VK_FALSE;
 }
 

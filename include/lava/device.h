@@ -82,6 +82,9 @@ struct DeviceSummary {
   uint32_t apiVersion;
 };
 
+// Thread safety: takeValidationMessages() may be called from any thread. Everything else
+// of a Device, and the objects made on it, from one thread at a time: their blocking helpers
+// share the Device's command pool and submit to its queue.
 class LAVA_API Device {
  public:
   // Creates an instance and a device (throws ResourceError when there is no driver, no
@@ -89,6 +92,9 @@ class LAVA_API Device {
   explicit Device(const DeviceOptions& options = {});
   // Borrows the host's (throws ResourceError when the physical device cannot run Lava).
   explicit Device(const DeviceHandles& borrowed);
+  // Own device: waits until it is idle, then destroys it. Borrowed: waits on nothing and
+  // destroys only what Lava made (its command pool); destroy Lava's objects on it first,
+  // each once the host's work that uses it has finished.
   ~Device();
   Device(const Device&) = delete;
   Device& operator=(const Device&) = delete;

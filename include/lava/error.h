@@ -45,7 +45,8 @@ class LAVA_API VulkanError : public Error {
   VkResult result_;
 };
 
-// "VK_ERROR_DEVICE_LOST" for VK_ERROR_DEVICE_LOST, and so on.
-LAVA_API const char* resultName(VkResult result);
+// "VK_ERROR_DEVICE_LOST" for VK_ERROR_DEVICE_LOST, and so on; "VkResult -1000012000" for a
+// value it does not list.
+LAVA_API std::string resultName(VkResult result);
 
 }  // namespace lava

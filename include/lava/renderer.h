@@ -47,6 +47,8 @@ struct LookSettings {
   float threshold = 0.1f;  // energy per pixel (of a 16x16 cell) below which nothing glows
 };
 
+// Thread safety: as its Device's (one thread at a time); recordDraw() is const but writes
+// the frame slot's descriptor sets where the device has no push descriptors.
 class LAVA_API LineRenderer {
  public:
   LineRenderer(Device& device, const RenderFormats& formats, uint32_t framesInFlight = 2);
@@ -102,6 +104,8 @@ class LAVA_API LineRenderer {
 // The ground plane (a 1 m grid, 24 m across) and the scene's colliders as solids (a plane as
 // an 8 m square seen from its front); a scene without colliders whose emitter 0 is a disc
 // gets a crater of scenery under it. Opaque; writes depth.
+// Thread safety: recordDraw() from any thread into distinct command buffers (it reads only
+// what the constructor made); construction and destruction as its Device's.
 class LAVA_API Backdrop {
  public:
   Backdrop(Device& device, const RenderFormats& formats);

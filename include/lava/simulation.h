@@ -54,6 +54,8 @@ LAVA_API std::vector<std::string> cpuSimdTargets();
 LAVA_API void setCpuSimdTarget(const std::string& target);
 
 // The CPU backend: the reference written apart from the shaders, or its SIMD twin.
+// Thread safety: one thread at a time per object; distinct objects are independent (with
+// threads > 1, advance() runs its own workers and joins them before it returns).
 class LAVA_API CpuSimulation final : public Simulation {
  public:
   // `threads` workers split the particles (1: the calling thread only, no thread created).
@@ -100,6 +102,8 @@ struct ParticleChunk {
 //
 // `frame` in [0, framesInFlight) names per-frame resources: update(frame) may be called
 // once the host's previous submission that used `frame` has finished.
+// Thread safety: as its Device's (one thread at a time); const calls from any thread
+// while no other call runs.
 class LAVA_API GpuSimulation final : public Simulation {
  public:
   GpuSimulation(Device& device, const Scene& scene, const GpuSimulationOptions& options = {});
@@ -109,7 +113,8 @@ class LAVA_API GpuSimulation final : public Simulation {
 
   // CPU side of a frame: advances the emission clocks by `steps` (0..maxStepsPerFrame) and
   // writes their schedule and the scene's parameters into frame slot `frame`. Every
-  // update() must be followed by one recordSimulate(frame) that the host submits. The
+  // update() must be followed by one recordSimulate(frame) that the host submits; a second
+  // update(frame) before it throws InvalidArgument ("frame") and plans nothing. The
   // first update() compiles the step's second pipeline (the one for workgroups no birth
   // lands on), so that a simulation that never steps does not pay for it.
   void update(uint32_t frame, uint32_t steps);

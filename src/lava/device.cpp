@@ -192,7 +192,15 @@ std::string unsuitability(const detail::Vk& vk, VkPhysicalDevice physical) {
   VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   features.pNext = &dynamic;
   vk.GetPhysicalDeviceFeatures2(physical, &features);
-  if (!dynamic.dynamicRendering) return name + " lacks dynamic rendering";
+  if (!dynamic.dynamicRendering) {
+    // Every Vulkan 1.3 device has it: the instance hides it, made for an older version.
+    if (properties.apiVersion >= VK_API_VERSION_1_3)
+      return name + " is Vulkan 1.3, but the instance was created for an older version " +
+             "(VkApplicationInfo::apiVersion; without application info it is 1.0), which " +
+             "hides dynamic rendering: Lava needs an instance of Vulkan 1.3, or of 1.2 with " +
+             "VK_KHR_dynamic_rendering enabled on the device";
+    return name + " lacks dynamic rendering";
+  }
   if (!queueFamilyOf(vk, physical)) return name + " has no queue with both graphics and compute";
   return {};
 }
@@ -417,7 +425,10 @@ Device::Device(const DeviceHandles& borrowed) : context_(std::make_unique<Device
 }
 
 Device::~Device() {
-  if (context_->handles.device) context_->vk.DeviceWaitIdle(context_->handles.device);
+  // Only Lava's own device: waiting on a borrowed one would need every queue of the host
+  // externally synchronised, and the host may be using them on other threads.
+  if (context_->owned && context_->handles.device)
+    context_->vk.DeviceWaitIdle(context_->handles.device);
   context_->release();
 }
 

@@ -14,7 +14,7 @@ VulkanError::VulkanError(VkResult result, const std::string& call, const char* f
             std::to_string(line)),
       result_(result) {}
 
-const char* resultName(VkResult result) {
+std::string resultName(VkResult result) {
   switch (result) {
 #define LAVA_CASE(r) \
   case r:            \
@@ -46,9 +46,10 @@ const char* resultName(VkResult result) {
     LAVA_CASE(VK_ERROR_OUT_OF_DATE_KHR)
     LAVA_CASE(VK_ERROR_INCOMPATIBLE_DISPLAY_KHR)
     LAVA_CASE(VK_ERROR_VALIDATION_FAILED_EXT)
+    LAVA_CASE(VK_ERROR_UNKNOWN)
 #undef LAVA_CASE
     default:
-      return "VK_ERROR_UNKNOWN";
+      return "VkResult " + std::to_string(static_cast<int>(result));
   }
 }
 

@@ -397,6 +397,11 @@ void GpuSimulation::update(uint32_t frame, uint32_t steps) {
     throw InvalidArgument("frame", "expected a frame slot in [0, " +
                                        std::to_string(impl_->options.framesInFlight - 1) +
                                        "], got " + std::to_string(frame));
+  if (impl_->slots[frame].planned > 0)  // planning over them would lose those steps
+    throw InvalidArgument("frame", "slot " + std::to_string(frame) + " still holds " +
+                                       std::to_string(impl_->slots[frame].planned) +
+                                       " steps of the last update(): record them first "
+                                       "(recordSimulate)");
   impl_->plan(scene_, frame, steps);
 }
 

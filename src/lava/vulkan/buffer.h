@@ -1,6 +1,8 @@
 // A VkBuffer with memory of its own: device-local for particles, host-visible and mapped
 // for uploads (the schedule, the scene) and read-backs (cached where the device has it).
 #pragma once
+#include <utility>
+
 #include "device_context.h"
 #include "unique.h"
 
@@ -16,8 +18,18 @@ class Buffer {
  public:
   Buffer() = default;
   Buffer(const DeviceContext& context, VkDeviceSize size, VkBufferUsageFlags usage, MemoryUse use);
-  Buffer(Buffer&&) = default;
-  Buffer& operator=(Buffer&&) = default;
+  // A moved-from buffer is empty: no handle, no memory, mapped() null.
+  Buffer(Buffer&& other) noexcept { *this = std::move(other); }
+  Buffer& operator=(Buffer&& other) noexcept {
+    context_ = other.context_;
+    size_ = std::exchange(other.size_, 0);
+    coherent_ = std::exchange(other.coherent_, true);
+    // The memory outlives its mapping: release the handles in creation order's reverse.
+    buffer_ = std::move(other.buffer_);
+    memory_ = std::move(other.memory_);
+    mapped_ = std::exchange(other.mapped_, nullptr);
+    return *this;
+  }
 
   VkBuffer get() const { return buffer_; }
   VkDeviceSize size() const { return size_; }
