@@ -32,7 +32,9 @@ done
 echo "$out" | grep -q "bit-identical" || { echo "FAIL: headless did not compare"; exit 1; }
 
 # Validation turned on the usual way as well: the loader's notice about it is no failure.
-VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation "$work/embed/lava_embed" >/dev/null
+VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation \
+  VK_LAYER_ENABLES=VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT \
+  "$work/embed/lava_embed" >/dev/null
 
 # The embed example on the other Vulkan implementations given (tests/drivers), each its own
 # instance and device with the validation layer (a message fails it).
