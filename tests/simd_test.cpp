@@ -5,6 +5,8 @@
 #include <cstring>
 #include <random>
 
+#include <hwy/targets.h>
+
 #include "lava/lava.h"
 #include "sim/reference.h"
 #include "sim/simd.h"
@@ -51,8 +53,8 @@ TEST_P(SimdModules, GiveTheReferenceBytesOnOneAndTwoThreads) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Effects, SimdModules,
-                         ::testing::ValuesIn(test::kModules), test::moduleTestName);
+INSTANTIATE_TEST_SUITE_P(Effects, SimdModules, ::testing::ValuesIn(test::kModules),
+                         test::moduleTestName);
 
 TEST(Simd, RandomScenesOfEveryModuleGiveTheReferenceBytes) {
   std::mt19937 rng(15);
@@ -124,6 +126,26 @@ TEST(Simd, EveryInstructionSetOfThisCpuGivesTheReferenceBytes) {
   EXPECT_EQ(cpuSimdTarget().rfind(targets.front() + " (", 0), 0u) << cpuSimdTarget();
   EXPECT_THROW(setCpuSimdTarget("MMX"), InvalidArgument);
   EXPECT_EQ(cpuSimdTarget().rfind(targets.front() + " (", 0), 0u) << cpuSimdTarget();
+}
+
+// Highway's target selection belongs to the process: a host that uses Highway itself must
+// find it as it was, whatever target Lava runs.
+TEST(Simd, ChoosingATargetLeavesHighwaysOwnSelectionAlone) {
+  const int64_t supported = hwy::SupportedTargets();
+  const bool initialized = hwy::GetChosenTarget().IsInitialized();
+  const size_t index = hwy::GetChosenTarget().GetIndex();
+  const std::vector<std::string> targets = cpuSimdTargets();
+  for (const std::string& target : targets) {
+    setCpuSimdTarget(target);
+    CpuSimulation simd(test::moduleScene("all"), 1, CpuKernel::Simd);
+    simd.advance(10);
+    EXPECT_EQ(simd.name().rfind("cpu-simd " + target + " (", 0), 0u) << simd.name();
+    EXPECT_EQ(hwy::SupportedTargets(), supported) << target;
+    EXPECT_EQ(hwy::GetChosenTarget().IsInitialized(), initialized) << target;
+    EXPECT_EQ(hwy::GetChosenTarget().GetIndex(), index) << target;
+  }
+  setCpuSimdTarget("");
+  EXPECT_EQ(cpuSimdTargets(), targets);
 }
 
 TEST(Simd, NamesItsInstructionSet) {

@@ -49,8 +49,10 @@ LAVA_API std::string cpuSimdTarget();
 // The instruction sets it can use here (compiled in and run by this CPU), best first:
 // "AVX3", "AVX2", "SSE4", ... Every one computes the same bytes.
 LAVA_API std::vector<std::string> cpuSimdTargets();
-// Makes CpuKernel::Simd use `target`, one of cpuSimdTargets() (process-wide; "" for the
-// best); InvalidArgument naming "simd-target" otherwise. Call it while no simulation runs.
+// Makes CpuKernel::Simd use `target`, one of cpuSimdTargets() ("" for the best), in every
+// simulation of this process; InvalidArgument naming "simd-target" otherwise. Lava's own
+// choice: Highway's target selection, which the host may use too, is left alone. Call it
+// while no simulation runs.
 LAVA_API void setCpuSimdTarget(const std::string& target);
 
 // The CPU backend: the reference written apart from the shaders, or its SIMD twin.

@@ -36,7 +36,7 @@ CpuSimulation::CpuSimulation(const Scene& scene, unsigned threads, CpuKernel ker
       state_(initialState(scene)),
       threads_(std::max(threads, 1u)),
       kernel_(kernel) {
-  if (kernel_ == CpuKernel::Simd) detail::simdTarget();  // picks the target before any thread
+  if (kernel_ == CpuKernel::Simd) detail::simdTarget();  // finds the best once, before threads
 }
 
 std::string CpuSimulation::name() const {

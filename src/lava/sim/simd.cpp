@@ -18,6 +18,7 @@
 #include <hwy/highway.h>
 
 #include <algorithm>
+#include <atomic>
 
 #include "lava/error.h"
 #include "shared.h"
@@ -124,8 +125,8 @@ HWY_INLINE void cone(const Collider& c, const ConeConstants& k, V3& x, V3& v) {
   const V height = splat(c.height);
   const V ry = hn::Add(splat(c.baseRadius), hn::Mul(splat(k.slope), d.y));
   const V q = hn::Add(hn::Mul(d.x, d.x), hn::Mul(d.z, d.z));
-  const M inside = hn::And(hn::And(hn::Ge(d.y, zero), hn::Lt(d.y, height)),
-                           hn::Lt(q, hn::Mul(ry, ry)));
+  const M inside =
+      hn::And(hn::And(hn::Ge(d.y, zero), hn::Lt(d.y, height)), hn::Lt(q, hn::Mul(ry, ry)));
   if (hn::AllFalse(D(), inside)) return;
   const M offAxis = hn::Ge(q, splat(gpu::kAxisSquared));
   const V inv = inverseRoot(q);
@@ -240,8 +241,7 @@ HWY_INLINE void stepLanes(const Reference& r, size_t emitter, Block& b, size_t i
   x.y = hn::IfThenZeroElse(below, x.y);
   const M bounce = hn::And(below, hn::Lt(v.y, zero));
   const V fr = splat(s.friction);
-  const V3 bounced = flushed(V3{rest(hn::Mul(fr, v.x)),
-                                hn::Neg(hn::Mul(splat(s.restitution), v.y)),
+  const V3 bounced = flushed(V3{rest(hn::Mul(fr, v.x)), hn::Neg(hn::Mul(splat(s.restitution), v.y)),
                                 rest(hn::Mul(fr, v.z))});
   v = select(bounce, bounced, v);
 
@@ -289,8 +289,7 @@ void Run(const Reference& r, size_t emitter, const std::vector<Births>& schedule
   const size_t lanes = hn::Lanes(D()), end = vectorsEnd(count);
   for (const Births& births : schedule) {
     // Born: slots head, head + 1, ... (mod capacity); those in [first, first + count).
-    for (uint32_t part = 0, head = births.head, left = births.count; left > 0 && part < 2;
-         ++part) {
+    for (uint32_t part = 0, head = births.head, left = births.count; left > 0 && part < 2; ++part) {
       const uint32_t run = std::min(left, capacity - head);  // [head, head + run) unwrapped
       const uint32_t from = std::max(head, first);
       const uint32_t to = static_cast<uint32_t>(std::min<uint64_t>(head + run, first + count));
@@ -321,20 +320,46 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace lava::detail {
 
-namespace {
-std::string& chosen() {  // the name useSimdTarget chose last ("": the best)
-  static std::string name;
-  return name;
-}
-}  // namespace
-
 HWY_EXPORT(Run);
 HWY_EXPORT(Target);
 HWY_EXPORT(LaneCount);
 
+namespace {
+
+// Lava's choice among the targets compiled here and run by this CPU, as Highway's target bit
+// (0: the best). Lava indexes the HWY_EXPORT tables itself: Highway's own selection
+// (GetChosenTarget, SupportedTargets) is never changed, so a host that uses Highway keeps its.
+std::atomic<int64_t> chosenTarget{0};
+
+std::vector<int64_t> available() {  // best first
+  return hwy::SupportedAndGeneratedTargets();
+}
+
+int64_t target() {
+  static const int64_t best = available().front();
+  const int64_t chosen = chosenTarget.load();
+  return chosen ? chosen : best;
+}
+
+// The entry of an HWY_EXPORT table that holds `target`'s function.
+size_t tableIndex(int64_t target) {
+#if (HWY_TARGETS & (HWY_TARGETS - 1)) == 0
+  (void)target;
+  return 0;  // one target compiled: a table of one
+#else
+  const int64_t shifted = HWY_CHOSEN_TARGET_SHIFT(target);
+  return shifted ? hwy::Num0BitsBelowLS1Bit_Nonzero64(static_cast<uint64_t>(shifted))
+                 : HWY_MAX_DYNAMIC_TARGETS + 1;  // the fallback (EMU128 or SCALAR): last
+#endif
+}
+
+}  // namespace
+
+#define LAVA_DISPATCH(name) (*HWY_DISPATCH_TABLE(name)[tableIndex(target())])
+
 void simdRun(const Reference& reference, size_t emitter, const std::vector<Births>& schedule,
              uint32_t first, Particle* slots, size_t count) {
-  HWY_DYNAMIC_DISPATCH(Run)(reference, emitter, schedule, first, slots, count);
+  LAVA_DISPATCH(Run)(reference, emitter, schedule, first, slots, count);
 }
 
 uint64_t stepKernelOnly(const Reference& reference, Particle* block, uint64_t steps, bool scalar) {
@@ -354,38 +379,35 @@ uint64_t stepKernelOnly(const Reference& reference, Particle* block, uint64_t st
 }
 
 std::string simdTarget() {
-  const size_t lanes = HWY_DYNAMIC_DISPATCH(LaneCount)();
-  return std::string(hwy::TargetName(HWY_DYNAMIC_DISPATCH(Target)())) + " (" +
-         std::to_string(lanes * 32) + "-bit, " + std::to_string(lanes) + " lanes)";
+  const size_t lanes = LAVA_DISPATCH(LaneCount)();
+  return std::string(hwy::TargetName(LAVA_DISPATCH(Target)())) + " (" + std::to_string(lanes * 32) +
+         "-bit, " + std::to_string(lanes) + " lanes)";
 }
 
 std::vector<std::string> simdTargets() {
   std::vector<std::string> names;
-  hwy::SetSupportedTargetsForTest(0);
-  for (int64_t target : hwy::SupportedAndGeneratedTargets()) names.push_back(hwy::TargetName(target));
-  useSimdTarget(chosen());
+  for (int64_t t : available()) names.push_back(hwy::TargetName(t));
   return names;
 }
 
 void useSimdTarget(const std::string& name) {
   if (name.empty()) {
-    chosen() = name;
-    hwy::SetSupportedTargetsForTest(0);
+    chosenTarget = 0;
     return;
   }
-  hwy::SetSupportedTargetsForTest(0);
-  for (int64_t target : hwy::SupportedAndGeneratedTargets())
-    if (name == hwy::TargetName(target)) {
-      chosen() = name;
-      hwy::SetSupportedTargetsForTest(target);
+  std::string known;
+  for (int64_t t : available()) {
+    if (name == hwy::TargetName(t)) {
+      chosenTarget = t;
       return;
     }
-  std::string known;
-  for (int64_t target : hwy::SupportedAndGeneratedTargets())
-    known += (known.empty() ? "" : ", ") + std::string(hwy::TargetName(target));
-  useSimdTarget(chosen());
-  throw InvalidArgument("simd-target", "expected one of " + known + " (this CPU's), got '" + name + "'");
+    known += (known.empty() ? "" : ", ") + std::string(hwy::TargetName(t));
+  }
+  throw InvalidArgument("simd-target",
+                        "expected one of " + known + " (this CPU's), got '" + name + "'");
 }
+
+#undef LAVA_DISPATCH
 
 }  // namespace lava::detail
 #endif

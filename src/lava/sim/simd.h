@@ -28,7 +28,8 @@ uint64_t stepKernelOnly(const Reference& reference, Particle* block, uint64_t st
 // "AVX3 (512-bit, 16 lanes)": the instruction set simdRun uses on this CPU.
 std::string simdTarget();
 // The instruction sets compiled in and supported by this CPU, best first; and a choice of
-// one of them (process-wide; "" for the best).
+// one of them for every simdRun ("" for the best). Lava dispatches to it itself: Highway's
+// own target selection, which a host may use, is never changed.
 std::vector<std::string> simdTargets();
 void useSimdTarget(const std::string& name);
 
