@@ -1,7 +1,7 @@
-// The CPU reference, one particle at a time: the model written apart from the shaders, in
-// plain float32 C++ built with -ffp-contract=off. A Reference holds a scene with its host
-// constants derived once; CpuSimulation runs it over the rings, tests call it directly
-// against closed forms.
+// The CPU reference, one particle at a time: model-inl.h on one lane, the model written apart
+// from the shaders in plain float32 C++ built with -ffp-contract=off. A Reference holds a
+// scene with its host constants derived once; CpuSimulation runs it over the rings, cpu-simd
+// (simd.h) over SIMD lanes, tests call it directly against closed forms.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -12,6 +12,10 @@
 #include "lava/state.h"
 
 namespace lava::detail {
+
+// Euler: the seed's scene (explicit Euler, no forces, colliders or lifetimes), stepped with
+// the other modules' code left out. Any: everything.
+enum class Modules { Euler, Any };
 
 // Particles CpuSimulation steps together with the reference (they stay in L1).
 constexpr size_t kReferenceBlock = 32;
@@ -29,19 +33,17 @@ class Reference {
   void run(size_t emitter, const std::vector<Births>& schedule, uint32_t first, Particle* slots,
            size_t count) const;
 
-  // The host constants, for the SIMD kernel (simd.cpp), which shares emit() with this one.
+  // The host constants, for the model (model-inl.h) and cpu-simd, which shares emit().
   const Scene& scene() const { return scene_; }
+  Modules modules() const { return modules_; }
   const EmitterConstants& constants(size_t emitter) const { return emitters_[emitter]; }
   const Vec3& planeNormal(size_t collider) const { return normals_[collider]; }
   const ConeConstants& cone(size_t collider) const { return cones_[collider]; }
 
  private:
-  // Euler: the seed's model (explicit Euler, no forces, colliders or lifetimes), the same
-  // operations with the branches for the other modules left out. Any: everything.
-  enum class Modules { Euler, Any };
-  template <Modules M>
+  template <Modules Use>
   void stepWith(size_t emitter, Particle& particle) const;
-  template <Modules M>
+  template <Modules Use>
   void runWith(size_t emitter, const std::vector<Births>& schedule, uint32_t first, Particle* slots,
                size_t count) const;
 

@@ -1,11 +1,10 @@
-// The cpu-simd kernel (simd.h): Reference::step written once more, on Highway vectors.
-// Highway compiles this file once per x86/Arm target (foreach_target.h) and the first call
-// picks the best the CPU runs. Each function below mirrors its scalar twin in
-// reference.cpp operation for operation; a branch there is a mask here, with both sides
-// computed and the taken one selected. Only Add, Sub, Mul, Div, Sqrt, Neg and comparisons
-// are used, never MulAdd, and the file is built with -ffp-contract=off, so no lane fuses a
-// multiply with an add (SimdKernel.HasNoFusedMultiplyAdd checks the object code).
-// Sizeless vectors (Arm SVE, RISC-V V) cannot be struct members, as V3 holds them: those
+// The cpu-simd kernel (simd.h): the model (model-inl.h) on Highway vectors, one particle per
+// lane. Highway compiles this file once per x86/Arm target (foreach_target.h) and the first
+// call picks the best the CPU runs. Floats and Mask below are the lane types the model runs
+// on: only Add, Sub, Mul, Div, Sqrt, Neg, Abs, comparisons and selects, never MulAdd, and the
+// file is built with -ffp-contract=off, so no lane fuses a multiply with an add
+// (SimdKernel.HasNoFusedMultiplyAdd checks the object code).
+// Sizeless vectors (Arm SVE, RISC-V V) cannot be struct members, as Floats holds them: those
 // targets are left out (expanded lazily, after Highway defines the names). NEON, x86 and
 // scalar are compiled.
 #ifndef HWY_DISABLED_TARGETS
@@ -30,8 +29,6 @@ namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
 using D = hn::ScalableTag<float>;
-using V = hn::Vec<D>;
-using M = hn::Mask<D>;
 
 // A block of particles, one array per field (Particle's order).
 struct Block {
@@ -39,224 +36,97 @@ struct Block {
   HWY_ALIGN float vx[kSimdBlock], vy[kSimdBlock], vz[kSimdBlock], mass[kSimdBlock];
 };
 
-struct V3 {
-  V x, y, z;
+// The model's lane types: a vector of floats (a float converts by broadcasting) and a mask.
+struct Floats {
+  hn::Vec<D> v;
+  Floats() = default;
+  HWY_INLINE Floats(float s) : v(hn::Set(D(), s)) {}  // NOLINT: implicit, as the model writes it
+  HWY_INLINE explicit Floats(hn::Vec<D> lanes) : v(lanes) {}
+};
+struct Mask {
+  hn::Mask<D> m;
 };
 
-HWY_INLINE V splat(float value) {
-  return hn::Set(D(), value);
+HWY_INLINE Floats operator+(Floats a, Floats b) {
+  return Floats(hn::Add(a.v, b.v));
 }
-HWY_INLINE V3 splat(const Vec3& v) {
-  return {splat(v.x), splat(v.y), splat(v.z)};
+HWY_INLINE Floats operator-(Floats a, Floats b) {
+  return Floats(hn::Sub(a.v, b.v));
 }
-HWY_INLINE V3 operator+(V3 a, V3 b) {
-  return {hn::Add(a.x, b.x), hn::Add(a.y, b.y), hn::Add(a.z, b.z)};
+HWY_INLINE Floats operator*(Floats a, Floats b) {
+  return Floats(hn::Mul(a.v, b.v));
 }
-HWY_INLINE V3 operator-(V3 a, V3 b) {
-  return {hn::Sub(a.x, b.x), hn::Sub(a.y, b.y), hn::Sub(a.z, b.z)};
+HWY_INLINE Floats operator/(Floats a, Floats b) {
+  return Floats(hn::Div(a.v, b.v));
 }
-HWY_INLINE V3 operator*(V s, V3 a) {
-  return {hn::Mul(s, a.x), hn::Mul(s, a.y), hn::Mul(s, a.z)};
+HWY_INLINE Floats operator-(Floats a) {
+  return Floats(hn::Neg(a.v));
 }
-HWY_INLINE V dot(V3 a, V3 b) {
-  return hn::Add(hn::Add(hn::Mul(a.x, b.x), hn::Mul(a.y, b.y)), hn::Mul(a.z, b.z));
+HWY_INLINE Mask operator<(Floats a, Floats b) {
+  return {hn::Lt(a.v, b.v)};
 }
-HWY_INLINE V3 select(M m, V3 yes, V3 no) {
-  return {hn::IfThenElse(m, yes.x, no.x), hn::IfThenElse(m, yes.y, no.y),
-          hn::IfThenElse(m, yes.z, no.z)};
+HWY_INLINE Mask operator<=(Floats a, Floats b) {
+  return {hn::Le(a.v, b.v)};
 }
-
-HWY_INLINE V flushed(V v) {
-  return hn::IfThenZeroElse(hn::Lt(hn::Abs(v), splat(gpu::kTinySpeed)), v);
+HWY_INLINE Mask operator>=(Floats a, Floats b) {
+  return {hn::Ge(a.v, b.v)};
 }
-HWY_INLINE V3 flushed(V3 v) {
-  return {flushed(v.x), flushed(v.y), flushed(v.z)};
+HWY_INLINE Mask operator!=(Floats a, Floats b) {
+  return {hn::Ne(a.v, b.v)};
 }
-HWY_INLINE V rest(V v) {
-  return hn::IfThenZeroElse(hn::Lt(hn::Abs(v), splat(gpu::kRestSpeed)), v);
+HWY_INLINE Mask operator&(Mask a, Mask b) {
+  return {hn::And(a.m, b.m)};
 }
-
-// F(x, v) = ((wind.x, w, wind.z) - drag v) + the forces in order.
-HWY_INLINE V3 force(const Scene& s, V3 x, V3 v, float w) {
-  V3 f = V3{splat(s.wind.x), splat(w), splat(s.wind.z)} - splat(s.drag) * v;
-  for (const Force& F : s.forces) {
-    if (F.type == ForceType::Attractor) {
-      const V3 d = splat(F.position) - x;
-      const V3 pulled = f + splat(F.strength) * d;
-      if (F.radius == 0.0f)
-        f = pulled;
-      else
-        f = select(hn::Le(dot(d, d), splat(F.radius * F.radius)), pulled, f);
-    } else {
-      const V3 d = x - splat(F.position);
-      const V ax = splat(F.axis.x), ay = splat(F.axis.y), az = splat(F.axis.z);
-      const V3 c{hn::Sub(hn::Mul(ay, d.z), hn::Mul(az, d.y)),
-                 hn::Sub(hn::Mul(az, d.x), hn::Mul(ax, d.z)),
-                 hn::Sub(hn::Mul(ax, d.y), hn::Mul(ay, d.x))};
-      f = f + splat(F.strength) * c;
-    }
-  }
-  return f;
+HWY_INLINE Mask operator|(Mask a, Mask b) {
+  return {hn::Or(a.m, b.m)};
 }
-
-// R(n, restitution, friction), lanes with vn >= 0 keeping v.
-HWY_INLINE V3 respond(V3 v, V3 n, float restitution, float friction) {
-  const V vn = dot(v, n);
-  const V3 t = v - vn * n;
-  const V fr = splat(friction);
-  const V3 kept{rest(hn::Mul(fr, t.x)), rest(hn::Mul(fr, t.y)), rest(hn::Mul(fr, t.z))};
-  const V e = hn::Neg(hn::Mul(splat(restitution), vn));
-  return select(hn::Lt(vn, hn::Zero(D())), kept + e * n, v);
+HWY_INLINE Mask operator!(Mask a) {
+  return {hn::Not(a.m)};
 }
-
-// 1/sqrt(q): the bit-pattern guess, then three Newton steps.
-HWY_INLINE V inverseRoot(V q) {
+HWY_INLINE Floats select(Mask m, Floats yes, Floats no) {
+  return Floats(hn::IfThenElse(m.m, yes.v, no.v));
+}
+HWY_INLINE bool none(Mask m) {
+  return hn::AllFalse(D(), m.m);
+}
+HWY_INLINE Floats abs(Floats a) {
+  return Floats(hn::Abs(a.v));
+}
+HWY_INLINE Floats sqrt(Floats a) {
+  return Floats(hn::Sqrt(a.v));
+}
+HWY_INLINE Floats rsqrtGuess(Floats q) {
   const hn::RebindToUnsigned<D> du;
-  const auto bits = hn::Sub(hn::Set(du, gpu::kRsqrtMagic), hn::ShiftRight<1>(hn::BitCast(du, q)));
-  V y = hn::BitCast(D(), bits);
-  const V half = hn::Mul(splat(0.5f), q);
-  for (int i = 0; i < 3; ++i) y = hn::Mul(y, hn::Sub(splat(1.5f), hn::Mul(hn::Mul(half, y), y)));
-  return y;
+  return Floats(hn::BitCast(
+      D(), hn::Sub(hn::Set(du, gpu::kRsqrtMagic), hn::ShiftRight<1>(hn::BitCast(du, q.v)))));
 }
 
-HWY_INLINE void cone(const Collider& c, const ConeConstants& k, V3& x, V3& v) {
-  const V3 d = x - splat(c.position);
-  const V zero = hn::Zero(D());
-  const V height = splat(c.height);
-  const V ry = hn::Add(splat(c.baseRadius), hn::Mul(splat(k.slope), d.y));
-  const V q = hn::Add(hn::Mul(d.x, d.x), hn::Mul(d.z, d.z));
-  const M inside =
-      hn::And(hn::And(hn::Ge(d.y, zero), hn::Lt(d.y, height)), hn::Lt(q, hn::Mul(ry, ry)));
-  if (hn::AllFalse(D(), inside)) return;
-  const M offAxis = hn::Ge(q, splat(gpu::kAxisSquared));
-  const V inv = inverseRoot(q);
-  const V rx = hn::IfThenElse(offAxis, hn::Mul(d.x, inv), splat(1.0f));
-  const V rz = hn::IfThenElseZero(offAxis, hn::Mul(d.z, inv));
-  const V rho = hn::IfThenElseZero(offAxis, hn::Mul(q, inv));
-  const V radial = splat(k.radial);
-  const V side = hn::Mul(hn::Sub(ry, rho), radial);
-  const V up = hn::Sub(height, d.y);
-  const M top = hn::Le(up, side);
-  const V3 sideNormal{hn::Mul(radial, rx), splat(k.vertical), hn::Mul(radial, rz)};
-  const V3 n = select(top, V3{zero, splat(1.0f), zero}, sideNormal);
-  V3 moved = x + hn::Add(side, splat(k.margin)) * n;
-  moved.y = hn::IfThenElse(top, splat(k.capY), moved.y);
-  moved.x = hn::IfThenElse(top, x.x, moved.x);
-  moved.z = hn::IfThenElse(top, x.z, moved.z);
-  x = select(inside, moved, x);
-  v = select(inside, flushed(respond(v, n, c.restitution, c.friction)), v);
-}
+}  // namespace HWY_NAMESPACE
+}  // namespace lava::detail
+HWY_AFTER_NAMESPACE();
 
-HWY_INLINE void collide(const Collider& c, const Vec3& normal, const ConeConstants& k, V3& x,
-                        V3& v) {
-  const V zero = hn::Zero(D());
-  switch (c.type) {
-    case ColliderType::Plane: {
-      const V3 n = splat(normal);
-      const V dist = dot(x - splat(c.position), n);
-      const M below = hn::Lt(dist, zero);
-      x = select(below, x - dist * n, x);
-      v = select(below, flushed(respond(v, n, c.restitution, c.friction)), v);
-      return;
-    }
-    case ColliderType::Sphere: {
-      const V3 center = splat(c.position);
-      const V3 d = x - center;
-      const V q = dot(d, d);
-      const M inside = hn::Lt(q, splat(c.radius * c.radius));
-      if (hn::AllFalse(D(), inside)) return;
-      const V s = hn::Sqrt(q);
-      const V3 n = select(hn::Ne(q, zero), V3{hn::Div(d.x, s), hn::Div(d.y, s), hn::Div(d.z, s)},
-                          V3{zero, splat(1.0f), zero});
-      x = select(inside, center + splat(c.radius) * n, x);
-      v = select(inside, flushed(respond(v, n, c.restitution, c.friction)), v);
-      return;
-    }
-    case ColliderType::Box: {
-      const V3 center = splat(c.position);
-      const V3 d = x - center;
-      const V3 e = splat(c.size);
-      const V ax = hn::Abs(d.x), ay = hn::Abs(d.y), az = hn::Abs(d.z);
-      const M inside = hn::And(hn::And(hn::Lt(ax, e.x), hn::Lt(ay, e.y)), hn::Lt(az, e.z));
-      if (hn::AllFalse(D(), inside)) return;
-      const V gx = hn::Sub(e.x, ax), gy = hn::Sub(e.y, ay), gz = hn::Sub(e.z, az);
-      // The least gap; ties keep the lowest axis.
-      const M yBeatsX = hn::Lt(gy, gx);
-      const M isZ = hn::Lt(gz, hn::IfThenElse(yBeatsX, gy, gx));
-      const M isY = hn::AndNot(isZ, yBeatsX);
-      const M isX = hn::Not(hn::Or(isY, isZ));
-      const V dj = hn::IfThenElse(isZ, d.z, hn::IfThenElse(isY, d.y, d.x));
-      const V sigma = hn::IfThenElse(hn::Ge(dj, zero), splat(1.0f), splat(-1.0f));
-      V3 moved = x;
-      moved.x = hn::IfThenElse(isX, hn::Add(center.x, hn::Mul(sigma, e.x)), x.x);
-      moved.y = hn::IfThenElse(isY, hn::Add(center.y, hn::Mul(sigma, e.y)), x.y);
-      moved.z = hn::IfThenElse(isZ, hn::Add(center.z, hn::Mul(sigma, e.z)), x.z);
-      const V3 n{hn::IfThenElseZero(isX, sigma), hn::IfThenElseZero(isY, sigma),
-                 hn::IfThenElseZero(isZ, sigma)};
-      x = select(inside, moved, x);
-      v = select(inside, flushed(respond(v, n, c.restitution, c.friction)), v);
-      return;
-    }
-    case ColliderType::Cone:
-      cone(c, k, x, v);
-      return;
-  }
-}
+#include "model-inl.h"
 
-// Reference::stepWith for the lanes at `i` of the block.
+HWY_BEFORE_NAMESPACE();
+namespace lava::detail {
+namespace HWY_NAMESPACE {
+
+// Model::step for the lanes at `i` of the block.
+template <Modules Use>
 HWY_INLINE void stepLanes(const Reference& r, size_t emitter, Block& b, size_t i) {
+  using V3 = Model<Floats>::V3;
   const D d;
-  const Scene& s = r.scene();
-  const EmitterConstants& k = r.constants(emitter);
-  const V h = splat(s.h());
-  const V age0 = hn::Load(d, b.age + i);
-  const M alive = hn::Not(hn::Lt(age0, hn::Zero(d)));
-  const V3 x0{hn::Load(d, b.px + i), hn::Load(d, b.py + i), hn::Load(d, b.pz + i)};
-  const V3 v0{hn::Load(d, b.vx + i), hn::Load(d, b.vy + i), hn::Load(d, b.vz + i)};
-  const V3 f = force(s, x0, v0, k.w);
-  V3 x, v;
-  switch (s.integrator) {
-    case Integrator::ExplicitEuler:
-      x = x0 + h * v0;
-      v = v0 + splat(k.hm) * f;
-      break;
-    case Integrator::SemiImplicitEuler:
-      v = v0 + splat(k.hm) * f;
-      x = x0 + h * v;
-      break;
-    case Integrator::VelocityVerlet: {
-      x = (x0 + h * v0) + splat(k.hh) * f;
-      const V3 half = v0 + splat(k.hm) * f;
-      const V3 f1 = force(s, x, half, k.w);
-      v = v0 + splat(k.hk) * (f + f1);
-      break;
-    }
-  }
-  v = flushed(v);
-  V age = hn::Add(age0, h);
-
-  // The ground.
-  const V zero = hn::Zero(d);
-  const M below = hn::Lt(x.y, zero);
-  x.y = hn::IfThenZeroElse(below, x.y);
-  const M bounce = hn::And(below, hn::Lt(v.y, zero));
-  const V fr = splat(s.friction);
-  const V3 bounced = flushed(V3{rest(hn::Mul(fr, v.x)), hn::Neg(hn::Mul(splat(s.restitution), v.y)),
-                                rest(hn::Mul(fr, v.z))});
-  v = select(bounce, bounced, v);
-
-  for (size_t c = 0; c < s.colliders.size(); ++c)
-    collide(s.colliders[c], r.planeNormal(c), r.cone(c), x, v);
-  const float lifetime = s.emitters[emitter].lifetime;
-  if (lifetime > 0.0f) age = hn::IfThenElse(hn::Ge(age, splat(lifetime)), splat(-1.0f), age);
-
-  hn::Store(hn::IfThenElse(alive, x.x, x0.x), d, b.px + i);
-  hn::Store(hn::IfThenElse(alive, x.y, x0.y), d, b.py + i);
-  hn::Store(hn::IfThenElse(alive, x.z, x0.z), d, b.pz + i);
-  hn::Store(hn::IfThenElse(alive, age, age0), d, b.age + i);
-  hn::Store(hn::IfThenElse(alive, v.x, v0.x), d, b.vx + i);
-  hn::Store(hn::IfThenElse(alive, v.y, v0.y), d, b.vy + i);
-  hn::Store(hn::IfThenElse(alive, v.z, v0.z), d, b.vz + i);
+  V3 x{Floats(hn::Load(d, b.px + i)), Floats(hn::Load(d, b.py + i)), Floats(hn::Load(d, b.pz + i))};
+  V3 v{Floats(hn::Load(d, b.vx + i)), Floats(hn::Load(d, b.vy + i)), Floats(hn::Load(d, b.vz + i))};
+  Floats age(hn::Load(d, b.age + i));
+  Model<Floats>::step<Use>(r, emitter, x, v, age);
+  hn::Store(x.x.v, d, b.px + i);
+  hn::Store(x.y.v, d, b.py + i);
+  hn::Store(x.z.v, d, b.pz + i);
+  hn::Store(age.v, d, b.age + i);
+  hn::Store(v.x.v, d, b.vx + i);
+  hn::Store(v.y.v, d, b.vy + i);
+  hn::Store(v.z.v, d, b.vz + i);
 }
 
 void put(Block& b, size_t j, const Particle& p) {
@@ -301,7 +171,10 @@ void Run(const Reference& r, size_t emitter, const std::vector<Births>& schedule
       left -= run;
       head = 0;
     }
-    for (size_t i = 0; i < end; i += lanes) stepLanes(r, emitter, b, i);
+    if (r.modules() == Modules::Euler)
+      for (size_t i = 0; i < end; i += lanes) stepLanes<Modules::Euler>(r, emitter, b, i);
+    else
+      for (size_t i = 0; i < end; i += lanes) stepLanes<Modules::Any>(r, emitter, b, i);
   }
   store(b, slots, count);
 }
