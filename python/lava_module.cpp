@@ -1,4 +1,4 @@
-// `import lava`: Lava for numpy users (SPEC §9), on the library's public API. Parameters are
+// `import lava`: Lava for numpy users, on the library's public API. Parameters are
 // the command line's flags with `-` written `_`; states come back as float32 arrays with
 // the columns of `lava simulate --out FILE.npy` (px py pz vx vy vz age).
 #include <pybind11/numpy.h>

@@ -127,7 +127,7 @@ struct EmitEntry {
   uvec4 sums;  // x births before this step since the dispatch's first step (mod 2^32)
 };
 
-// An emitter and the constants the host derives from it (float32, SPEC §6).
+// An emitter and the constants the host derives from it (float32, docs/model.md).
 struct EmitterParams {
   vec4 position;   // xyz centre (m), w radius (m)
   vec4 velocity;   // xyz mean launch velocity (m/s), w mass (kg)
@@ -211,9 +211,8 @@ const uint kSplatFull = 50000u;
 // The sums are laid out in blocks of 2 x 8 pixels, one 64-byte cache line each, a column
 // after another (splatIndex): a line's next pixels often share its block, and the cores of a
 // CPU device, which add into the same sums, pass fewer cache lines between them. Tall blocks
-// suit the lines, which are mostly steep on screen (falling lava): on a 2-core host 4 x 4
-// blocks were about 4% faster than rows, and 2 x 8 about 4% faster again (1 x 16 no better
-// than 2 x 8, and costlier for shallow lines). Two pixels one above the other, the upper on
+// suit the lines, which are mostly steep on screen (falling lava); 1 x 16 would cost
+// shallow lines more (docs/benchmarks.md measures the shapes). Two pixels one above the other, the upper on
 // an even row, are one 8-byte word: where the device has 64-bit atomics, one add covers
 // both (splat.comp, LAVA_SPLAT_PAIRS). The buffer covers the target rounded up to whole
 // blocks.

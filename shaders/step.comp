@@ -1,13 +1,13 @@
 #version 460
 #extension GL_EXT_samplerless_texture_functions : require  // texelFetch on texel views
-// One dispatch advances every particle of the bound chunk by run.y steps of SPEC §6:
+// One dispatch advances every particle of the bound chunk by run.y steps of the model (docs/model.md):
 // emission (from the host's per-emitter ring schedule), forces, the integrator, the ground,
 // the colliders, lifetimes. Particles are independent, so each invocation keeps its
 // particles in registers across the steps.
 //
 // Exactness: every float variable of the state path is `precise` (its operations carry
 // NoContraction: no FMA, no reassociation), dot products and cross products are written out
-// in the order SPEC §6 gives, quotients and products of scene constants come from the host,
+// in the order docs/model.md gives, quotients and products of scene constants come from the host,
 // and the only square root and division are the sphere collider's. The execution modes ask
 // for IEEE round-to-nearest-even and preserved signed zeros where the device offers them.
 #extension GL_EXT_control_flow_attributes : require
@@ -218,7 +218,7 @@ void collide(const ColliderParams c, uint type, inout precise vec3 x, inout prec
     if (q < c.shape.y) {
       precise vec3 n = vec3(0.0, 1.0, 0.0);
       if (q != 0.0) {
-        precise float s = sqrt(q);  // the one square root and division SPEC §6 allows
+        precise float s = sqrt(q);  // the model's one square root and division
         n = vec3(d.x / s, d.y / s, d.z / s);
       }
       x = c.position.xyz + c.shape.x * n;
@@ -271,7 +271,7 @@ void step(const World g, const Model e, inout precise vec3 x, inout precise vec3
   }
   flush(v);
   age = age + h;
-  // The ground (seed eq. 7): restitution on y, retention and static friction on x and z.
+  // The ground: restitution on y, retention and static friction on x and z.
   if (x.y < 0.0) {
     x.y = 0.0;
     if (v.y < 0.0) {
@@ -367,7 +367,7 @@ State load(uint local) {
 
 // Four particles per invocation, a + k * stride: their step chains are independent, so
 // interleaving them hides each one's latency (lavapipe runs one SIMD vector of invocations
-// at a time: 2x faster with two particles, 2.5x with four, at 262,144 particles).
+// at a time; docs/benchmarks.md).
 void main() {
   const uint steps = p.run.y;
   const uint count = p.chunk.y;

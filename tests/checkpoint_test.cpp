@@ -1,4 +1,4 @@
-// The checkpoint file (issue 18): what is written is read back exactly; a damaged file, of
+// The checkpoint file: what is written is read back exactly; a damaged file, of
 // any length or with any byte changed, is refused by name, never read as a state.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// The modules of SPEC §6 in the CPU reference, against closed forms and invariants: the
+// The modules of docs/model.md in the CPU reference, against closed forms and invariants: the
 // integrators under constant gravity, bursts and lifetimes counted exactly, forces against
 // hand-computed steps, colliders that leave nothing inside, the denormal rule.
 #include <gtest/gtest.h>
@@ -249,7 +249,7 @@ TEST(Colliders, PlaneBouncesWithItsOwnRestitution) {
 }
 
 TEST(Denormals, NoVelocityComponentBetweenZeroAnd2ToTheMinus24) {
-  // Issue 11's scene: without the rule 891 CPU velocities were denormal by step 2000.
+  // A scene where, without the flush rule, 891 CPU velocities were denormal by step 2000.
   Scene s;
   s.gravity = 0.0f;
   s.drag = 5.0f;

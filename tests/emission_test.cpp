@@ -1,4 +1,4 @@
-// The ring buffer of SPEC §2 step 1: exact counts for fractional rates, wrap-around that
+// The ring buffer (docs/model.md, "Emission"): exact counts for fractional rates, wrap-around that
 // reuses the oldest slots, more than the capacity in one step.
 #include <gtest/gtest.h>
 

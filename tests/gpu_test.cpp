@@ -254,7 +254,7 @@ TEST_P(Modules, AreBitIdenticalToTheCpuReference) {
   }
 }
 
-// Checkpoints (issue 18): N steps straight, or N/2, a checkpoint (through its bytes, as a
+// Checkpoints: N steps straight, or N/2, a checkpoint (through its bytes, as a
 // file holds them), then N/2 more: the same bytes, on each backend and crossed over.
 TEST_P(Modules, ResumeFromACheckpointBitForBit) {
   const Scene s = moduleScene(GetParam());
@@ -292,7 +292,7 @@ TEST_P(Modules, ResumeFromACheckpointBitForBit) {
     }
 }
 
-// Issue 17: behaviour the panel and embedders rely on.
+// Behaviour the panel and embedders rely on.
 TEST_F(GpuTest, SceneChangesMidRunStayBitIdenticalToTheCpu) {
   // The panel's live edits: parameters change between steps (rate, gravity, wind, drag, the
   // ground, an emitter's velocity and a collider's place), on both backends alike.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# SPEC §7 on a fresh prefix: `cmake --install` of this build; its include/ holds only lava/;
+# The installed library on a fresh prefix: `cmake --install` of this build; its include/ holds only lava/;
 # every symbol of the library is lava's or a dependency's; examples/embed and
 # examples/headless configure, build and run against it with find_package(Lava); the
 # headless example also builds as one file with `pkg-config --cflags --libs lava`. The

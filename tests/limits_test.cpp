@@ -1,4 +1,4 @@
-// The limits test mode (issue 11): the chunking, dispatch and binding logic under the limits
+// The limits test mode: the chunking, dispatch and binding logic under the limits
 // other drivers report, imposed on lavapipe through the device context's copies of them.
 // Every run must give the bytes of the unconstrained one (simulation) and the same image
 // (drawing, split into the same chunks).

@@ -1,5 +1,5 @@
 #!/bin/sh
-# No fused multiply-add anywhere in the library (SPEC §6: a fused a*b+c rounds once, the
+# No fused multiply-add anywhere in the library (docs/model.md: a fused a*b+c rounds once, the
 # reference twice): the disassembly of every target Highway compiled holds no vfmadd,
 # vfmsub, vfnmadd or vfnmsub, while it does hold the kernel's vector multiplies.
 lib="$1"

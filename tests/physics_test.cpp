@@ -1,4 +1,4 @@
-// The CPU reference against closed forms of SPEC §2: explicit Euler before the first
+// The CPU reference against closed forms (docs/model.md): explicit Euler before the first
 // bounce, the ground impulse (restitution, retention, rest threshold), forces.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// cpu-simd (issue 15): the SIMD kernel gives the reference's bytes, on every module and on
+// cpu-simd: the SIMD kernel gives the reference's bytes, on every module and on
 // random scenes drawing all of them, on 1 and 2 threads.
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
-// The simulation shader as compiled, read back with spirv-dis (SPEC §6 "Floating point
-// across drivers"): every float add, subtract, multiply and divide carries NoContraction;
+// The simulation shader as compiled, read back with spirv-dis (docs/model.md, "The float
+// rules"): every float add, subtract, multiply and divide carries NoContraction;
 // no instruction a driver may compute inexactly (a dot product, an FMA, a transcendental)
 // appears beyond the sphere collider's one square root and division; the float-controls
 // execution modes each variant promises are there; and the structs laid out by std140 and

@@ -1,4 +1,4 @@
-// Scenes the tests share: each module of SPEC §6 on its own and all together, and random
+// Scenes the tests share: each module of docs/model.md on its own and all together, and random
 // scenes drawing every module.
 #pragma once
 #include <gtest/gtest.h>
@@ -24,7 +24,7 @@ inline std::string moduleTestName(const ::testing::TestParamInfo<const char*>& i
   return name;
 }
 
-// Every module of SPEC §6 on its own, and all of them together: 20,000+ particles over
+// Every module of docs/model.md on its own, and all of them together: 20,000+ particles over
 // 3,000 steps, bit-identical on the GPU and the CPU reference.
 inline Scene moduleScene(const std::string& module) {
   Scene s;

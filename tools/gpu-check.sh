@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The GPU runbook (issue 11): on a machine with a GPU and no package registry, run everything
+# The GPU runbook: on a machine with a GPU and no package registry, run everything
 # that proves Lava there and keep every result in one folder, within 5 minutes.
 #
 #   tools/gpu-check.sh [--dry] [--lava PATH] [--prefix DIR] OUT

@@ -124,7 +124,8 @@ LAVA_API void setSceneKey(Scene& scene, KeyTable table, size_t where, const std:
 
 // -- Scene files (TOML) -----------------------------------------------------------------
 //
-// Format 2: top-level keys, then [[emitter]], [[force]] and [[collider]] tables (SPEC §6).
+// Format 2: top-level keys, then [[emitter]], [[force]] and [[collider]] tables
+// (docs/cli.md, "Scenes").
 // A file without [[emitter]] tables describes emitter 0 with the top-level emitter keys.
 
 // For a top-level key Lava does not know: return true to accept it (a program's own

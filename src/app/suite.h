@@ -1,6 +1,6 @@
 // `lava validate --suite`: cases (a scene, a step count, a tolerance) run GPU against the CPU
 // reference (or against recorded hashes), and the reports CI tools read: results CSV,
-// JUnit XML, baselines of expected failures, per-checkpoint hashes (SPEC §8).
+// JUnit XML, baselines of expected failures, per-checkpoint hashes (docs/cli.md, `lava validate`).
 #pragma once
 #include <cstdint>
 #include <map>

@@ -186,9 +186,8 @@ bool FrameRenderer::copyBackdrop(VkCommandBuffer commands, uint32_t frame,
 // while the other cores wait; the host does it sooner, while the device still works on the
 // previous frame. The cached colour is read back once (this frame), then written by the host
 // from the next frame in this slot on, when the read-back has surely finished. Not under
-// the splat, whose long dispatches keep every core busy: there it measured 3% slower at
-// 262,144 particles and no faster at 5,000 (with the lines, 6% faster; lavapipe,
-// docs/benchmarks.md).
+// the splat, whose long dispatches keep every core busy: there it does not pay
+// (docs/benchmarks.md, "The backdrop written by the host").
 bool FrameRenderer::writeBackdropFromHost(VkCommandBuffer commands, uint32_t frame,
                                           const FrameTarget& target) {
   if (lines_.mode() == LineMode::Splat) return false;

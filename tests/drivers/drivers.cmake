@@ -1,4 +1,4 @@
-# Included by tests/CMakeLists.txt. Every conforming implementation CI has (SPEC §5): lavapipe 22.3 (the default), lavapipe
+# Included by tests/CMakeLists.txt. Every conforming implementation CI has (docs/drivers.md): lavapipe 22.3 (the default), lavapipe
 # 25.0 and SwiftShader, which third_party/fetch-drivers.sh fetches into LAVA_DRIVERS_DIR,
 # and lavapipe 22.3 in the minimal device profile (no push descriptors, 64-bit atomics or
 # float-control declarations: the fallbacks, on any machine). On each, with validation on:
@@ -31,8 +31,8 @@ set(env_SwiftShader VK_DRIVER_FILES=${swiftshader} VK_ICD_FILENAMES=${swiftshade
 # two-core host). The minimal profile: all of them. Lavapipe 25: those of the modules against
 # the CPU, both renderers, the look and embedding; not the long runs of host-side logic
 # (the soak, 2^31 births in a dispatch, 512 chunks, the limits of other vendors), which
-# lavapipe 22 and the minimal profile run. SwiftShader runs Lava's compute shaders about 200
-# times slower than lavapipe (docs/drivers.md): there, both renderers, two tests of the
+# lavapipe 22 and the minimal profile run. SwiftShader runs Lava's compute shaders far more
+# slowly than lavapipe (docs/drivers.md): there, both renderers, two tests of the
 # look and embedding; its builtin suite compares every module with the CPU and crosses 129
 # chunks. It has no 64-bit atomics (*Pairs*) and no host-memory render targets.
 set(filter_Minimal "*")

@@ -1,4 +1,4 @@
-"""`import lava` (SPEC §9) against the `lava` program's own .npy files, on lavapipe with the
+"""`import lava` against the `lava` program's own .npy files, on lavapipe with the
 validation layer (ctest sets PYTHONPATH, LAVA_EXE, VK_DRIVER_FILES and LAVA_VALIDATION)."""
 import os
 import subprocess
@@ -92,7 +92,7 @@ def test_a_scene_file_with_program_options_serves_python_too(tmp_path):
 
 
 def test_checkpoints_read_in_numpy_without_lava(tmp_path):
-    # issue 18: the checkpoint is an .npz numpy opens; its state is simulate's .npy, its raw
+    # The checkpoint is an .npz numpy opens; its state is simulate's .npy, its raw
     # particles the same floats, its clock and scene readable.
     ck = str(tmp_path / "run.npz")
     scene = os.path.join(SCENES, "volcano.toml")

@@ -198,7 +198,7 @@ const Range kLength{0.0, 1e4};
 const Range kPositiveLength{0.0, 1e4, true};
 
 std::vector<KeyDef> emitterKeys(bool flat) {
-  // Flat (top-level) keys reach emitter 0 under the §2 names.
+  // Flat (top-level) keys reach emitter 0 under the format 1 names.
   auto e = [flat](Scene& s, size_t i) -> Emitter& { return s.emitters.at(flat ? 0 : i); };
   std::vector<KeyDef> keys = {
       countKey("particles", "ring capacity (slots)", 1, uint64_t{1} << 31,

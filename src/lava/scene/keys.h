@@ -19,7 +19,7 @@ struct KeyDef {
   std::function<void(const Scene&, size_t where, const std::string& parameter)> check;
   // The field's value as text that set() reads back exactly.
   std::function<std::string(const Scene&, size_t where)> text;
-  bool emitterZero = false;  // a top-level key that sets emitter 0 (flat §2 files)
+  bool emitterZero = false;  // a top-level key that sets emitter 0 (flat, format 1 files)
 };
 
 const std::vector<KeyDef>& keyDefs(KeyTable table);

@@ -1,4 +1,4 @@
-// Scene files: TOML in (format 2 tables or the flat §2 keys), TOML out.
+// Scene files: TOML in (format 2 tables or the flat format 1 keys), TOML out.
 // toml++ compiled into Lava (header-only mode): no run-time dependency for its users.
 #define TOML_HEADER_ONLY 1
 #include <toml++/toml.h>

@@ -1,4 +1,4 @@
-// The scalars SPEC §6 marks *host*: computed once from the scene in float32 (the plane
+// The host constants of docs/model.md: computed once from the scene in float32 (the plane
 // normal and the cone's constants in double, then float32), the same for both backends.
 #pragma once
 #include "lava/scene.h"

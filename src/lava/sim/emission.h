@@ -1,4 +1,4 @@
-// The host's ring bookkeeping (SPEC §6 "Emission"), shared by both backends: how many
+// The host's ring bookkeeping (docs/model.md, "Emission"), shared by both backends: how many
 // particles each emitter bears in a step, into which of its slots, with which serials.
 #pragma once
 #include <cstdint>
