@@ -1,6 +1,6 @@
-// The colour of a lava line. style: x line scale (s), y speed (m/s) of full red, z age (s)
-// of the darkest, w the look. Both looks: orange when slow, red when fast (the handout's rule), darker
-// as it cools.
+// The colour of a lava line. style: x line scale (s), y speed (m/s) of full red, z age (s) of the
+// darkest, w the look. Both looks: orange when slow, red when fast (the handout's rule), darker as
+// it cools.
 const vec3 kOrange = vec3(1.0, 0.55, 0.08);
 const vec3 kRed = vec3(0.95, 0.06, 0.02);
 

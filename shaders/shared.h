@@ -208,14 +208,13 @@ struct SplatParams {
 // 64 adds that may race past it still fit), and green, never more than red, below it.
 const float kSplatScale = 128.0f;
 const uint kSplatFull = 50000u;
-// The sums are laid out in blocks of 2 x 8 pixels, one 64-byte cache line each, a column
-// after another (splatIndex): a line's next pixels often share its block, and the cores of a
-// CPU device, which add into the same sums, pass fewer cache lines between them. Tall blocks
-// suit the lines, which are mostly steep on screen (falling lava); 1 x 16 would cost
-// shallow lines more (docs/benchmarks.md measures the shapes). Two pixels one above the other, the upper on
-// an even row, are one 8-byte word: where the device has 64-bit atomics, one add covers
-// both (splat.comp, LAVA_SPLAT_PAIRS). The buffer covers the target rounded up to whole
-// blocks.
+// The sums are laid out in blocks of 2 x 8 pixels, one 64-byte cache line each, a column after
+// another (splatIndex): a line's next pixels often share its block, and the cores of a CPU device,
+// which add into the same sums, pass fewer cache lines between them. Tall blocks suit the lines,
+// which are mostly steep on screen (falling lava); 1 x 16 would cost shallow lines more
+// (docs/benchmarks-history.md measures the shapes). Two pixels one above the other, the upper on an
+// even row, are one 8-byte word: where the device has 64-bit atomics, one add covers both
+// (splat.comp, LAVA_SPLAT_PAIRS). The buffer covers the target rounded up to whole blocks.
 const uint kSplatBlockWidth = 2u;
 const uint kSplatBlockHeight = 8u;
 LAVA_FN uint splatIndex(uint x, uint y, uint width) {

@@ -1,8 +1,8 @@
 #version 460
 #extension GL_EXT_samplerless_texture_functions : require  // texelFetch on texel views
-// One dispatch advances every particle of the bound chunk by run.y steps of the model (docs/model.md):
-// emission (from the host's per-emitter ring schedule), forces, the integrator, the ground,
-// the colliders, lifetimes. Particles are independent, so each invocation keeps its
+// One dispatch advances every particle of the bound chunk by run.y steps of the model
+// (docs/model.md): emission (from the host's per-emitter ring schedule), forces, the integrator,
+// the ground, the colliders, lifetimes. Particles are independent, so each invocation keeps its
 // particles in registers across the steps.
 //
 // Exactness: every float variable of the state path is `precise` (its operations carry
@@ -367,7 +367,7 @@ State load(uint local) {
 
 // Four particles per invocation, a + k * stride: their step chains are independent, so
 // interleaving them hides each one's latency (lavapipe runs one SIMD vector of invocations
-// at a time; docs/benchmarks.md).
+// at a time; docs/benchmarks-history.md).
 void main() {
   const uint steps = p.run.y;
   const uint count = p.chunk.y;

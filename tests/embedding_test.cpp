@@ -1,7 +1,7 @@
-// Lava as a host embeds it (docs/library.md): the host's own instance and device, borrowed and never
-// destroyed; the simulation recorded into the host's command buffers with frames in flight
-// and a step count that changes every frame, bit-identical to the CPU reference; lines
-// drawn into a host image of a format Lava was not written for.
+// Lava as a host embeds it (docs/library.md): the host's own instance and device, borrowed and
+// never destroyed; the simulation recorded into the host's command buffers with frames in flight
+// and a step count that changes every frame, bit-identical to the CPU reference; lines drawn into a
+// host image of a format Lava was not written for.
 #include <gtest/gtest.h>
 
 #include <cstring>

@@ -356,7 +356,7 @@ TEST_F(GpuTest, CpuThreadCountsOneToEightGiveTheSameBytes) {
 }
 
 TEST_F(GpuTest, AStateOfTheWrongSizeIsRefusedByBothBackends) {
-  const Scene s = moduleScene("disc");
+  const Scene s = moduleScene("emitter-disc");
   State wrong = initialState(s);
   wrong.particles.pop_back();
   GpuSimulation gpu(device(), s);
@@ -372,7 +372,7 @@ TEST_F(GpuTest, AStateOfTheWrongSizeIsRefusedByBothBackends) {
   EXPECT_THROW(cpu.setState(wrong), InvalidArgument);
 }
 
-INSTANTIATE_TEST_SUITE_P(Effects, Modules, ::testing::ValuesIn(test::kModules),
+INSTANTIATE_TEST_SUITE_P(Effects, Modules, ::testing::ValuesIn(test::moduleNames()),
                          test::moduleTestName);
 
 }  // namespace

@@ -53,7 +53,7 @@ TEST_P(SimdModules, GiveTheReferenceBytesOnOneAndTwoThreads) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Effects, SimdModules, ::testing::ValuesIn(test::kModules),
+INSTANTIATE_TEST_SUITE_P(Effects, SimdModules, ::testing::ValuesIn(test::moduleNames()),
                          test::moduleTestName);
 
 TEST(Simd, RandomScenesOfEveryModuleGiveTheReferenceBytes) {
@@ -88,7 +88,7 @@ TEST(Simd, ResumesFromAReferenceStateAndBack) {
 
 TEST(Simd, TheComputeCeilingKernelIsTheSameStep) {
   // The roofline microkernel steps a block in lanes: its bytes equal the scalar step's.
-  const Scene s = test::moduleScene("disc");
+  const Scene s = test::moduleScene("emitter-disc");
   CpuSimulation fill(s, 1);
   fill.advance(3000);
   const State filled = fill.state();

@@ -1,6 +1,7 @@
-// .npy / .csv output as SPEC §4 fixes it, and the checks that keep bad paths from losing work.
+// .npy / .csv output as docs/cli.md fixes it, and the checks that keep bad paths from losing work.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -9,7 +10,9 @@
 #include <fstream>
 #include <sstream>
 
+#include "common/files.h"
 #include "host/output.h"
+#include "lava/error.h"
 #include "lava/validation.h"
 
 namespace lava {
@@ -22,8 +25,6 @@ std::string readFile(const std::string& path) {
   return s.str();
 }
 
-using host::checkStatePath;
-using host::UsageError;
 using host::writeState;
 
 std::vector<Particle> sample() {
@@ -63,16 +64,35 @@ TEST(StateIo, CsvHasHeaderAndOneLinePerSlot) {
   std::remove(path.c_str());
 }
 
-TEST(StateIo, BadPathsAreUsageErrors) {
-  EXPECT_THROW(checkStatePath("--out", "state.txt"), UsageError);
-  EXPECT_THROW(checkStatePath("--out", "/no/such/folder/state.npy"), UsageError);
-  EXPECT_THROW(checkStatePath("--out", ".npy"), UsageError);
-  EXPECT_NO_THROW(checkStatePath("--out", tempPath("ok.npy")));
+std::vector<std::string> temporaries;  // what writeFileAtomically announced, in order
+
+TEST(Files, AppearWholeWithTheUmasksPermissionsAndLeaveNoTemporary) {
+  const std::string path = tempPath("atomic.txt");
+  const mode_t previous = umask(027);
+  common::writeFileAtomically(path, "first", [](const char* t) {
+    temporaries.push_back(t ? t : "gone");
+  });
+  umask(previous);
+  EXPECT_EQ(readFile(path), "first");
+  struct stat info {};
+  ASSERT_EQ(stat(path.c_str(), &info), 0);
+  EXPECT_EQ(info.st_mode & 0777, 0640u);  // 0666 less the umask, not mkstemp's 0600
+  ASSERT_EQ(temporaries.size(), 2u);
+  EXPECT_EQ(temporaries[0].rfind(path + ".", 0), 0u) << temporaries[0];
+  EXPECT_EQ(temporaries[1], "gone");
+  EXPECT_NE(access(temporaries[0].c_str(), F_OK), 0) << "the temporary was left behind";
+
+  common::writeFileAtomically(path, "second");  // replaces it whole
+  EXPECT_EQ(readFile(path), "second");
+  std::remove(path.c_str());
+
   try {
-    checkStatePath("--out", "/no/such/folder/state.npy");
-    ADD_FAILURE() << "a path in a missing folder was accepted";
-  } catch (const UsageError& e) {
-    EXPECT_NE(std::string(e.what()).find("--out"), std::string::npos) << e.what();
+    common::writeFileAtomically("/no/such/folder/file.txt", "x");
+    ADD_FAILURE() << "a file in a missing folder was written";
+  } catch (const ResourceError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot write '/no/such/folder/file.txt'"),
+              std::string::npos)
+        << e.what();
   }
 }
 

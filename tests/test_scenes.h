@@ -4,19 +4,28 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "lava/scene.h"
+#include "module_scenes.h"
 
 namespace lava::test {
 
-// The names moduleScene() knows, for parameterised tests.
-inline constexpr const char* kModules[] = {
-    "point",      "disc",           "sphere",       "box",  "attractor",           "vortex",
-    "plane",      "sphere-collider", "box-collider", "cone", "semi-implicit-euler",
-    "velocity-verlet", "bursts-lifetimes", "all"};
+// The module scenes (scenes/modules/*.toml: each module of docs/model.md on its own and all
+// of them together, 20,000+ particles), the ones the builtin suite runs too: their names, for
+// parameterised tests.
+inline const std::vector<const char*>& moduleNames() {
+  static const std::vector<const char*> names = [] {
+    std::vector<const char*> out;
+    for (const scenes::ModuleScene& m : scenes::kModuleScenes) out.push_back(m.name);
+    return out;
+  }();
+  return names;
+}
 
-// "sphere-collider" -> "sphere_collider" (test names take no '-').
+// "collider-sphere" -> "collider_sphere" (test names take no '-').
 inline std::string moduleTestName(const ::testing::TestParamInfo<const char*>& info) {
   std::string name = info.param;
   for (char& ch : name)
@@ -24,78 +33,10 @@ inline std::string moduleTestName(const ::testing::TestParamInfo<const char*>& i
   return name;
 }
 
-// Every module of docs/model.md on its own, and all of them together: 20,000+ particles over
-// 3,000 steps, bit-identical on the GPU and the CPU reference.
-inline Scene moduleScene(const std::string& module) {
-  Scene s;
-  s.seed = 777;
-  Emitter& e = s.emitters[0];
-  e.particles = 20000;
-  e.rate = 9000.0;
-  e.spread = {1.5f, 1.5f, 1.5f};
-  e.position = {0.0f, 1.0f, 0.0f};
-  const auto add = [&s](Collider c) { s.colliders.push_back(c); };
-  if (module == "point") e.shape = Shape::Point;
-  if (module == "sphere") e.shape = Shape::Sphere, e.radius = 0.4f;
-  if (module == "box") e.shape = Shape::Box, e.size = {0.5f, 0.2f, 0.3f};
-  if (module == "semi-implicit-euler") s.integrator = Integrator::SemiImplicitEuler;
-  if (module == "velocity-verlet") s.integrator = Integrator::VelocityVerlet;
-  if (module == "bursts-lifetimes") e.burst = 3000, e.burstInterval = 0.3, e.lifetime = 0.7f;
-  if (module == "attractor" || module == "all")
-    s.forces.push_back({ForceType::Attractor, {0.5f, 2.0f, 0.0f}, {}, 8.0f, 1.5f});
-  if (module == "vortex" || module == "all")
-    s.forces.push_back({ForceType::Vortex, {0.0f, 0.0f, 0.0f}, {0.0f, 1.5f, 0.2f}, 2.0f, 0.0f});
-  Collider c;
-  c.restitution = 0.6f;
-  c.friction = 0.8f;
-  if (module == "plane" || module == "all") {
-    c.type = ColliderType::Plane;
-    c.position = {0.0f, 0.0f, -1.0f};
-    c.normal = {0.0f, 0.3f, 1.0f};
-    add(c);
-  }
-  if (module == "sphere-collider" || module == "all") {
-    c.type = ColliderType::Sphere;
-    c.position = {0.3f, 2.5f, 0.0f};
-    c.radius = 0.5f;
-    add(c);
-  }
-  if (module == "box-collider" || module == "all") {
-    c.type = ColliderType::Box;
-    c.position = {-0.8f, 0.4f, 0.2f};
-    c.size = {0.4f, 0.4f, 0.5f};
-    add(c);
-  }
-  if (module == "cone" || module == "all") {
-    c.type = ColliderType::Cone;
-    c.position = {0.0f, 0.0f, 0.0f};
-    c.baseRadius = 1.6f;
-    c.topRadius = 0.25f;
-    c.height = 0.9f;
-    add(c);
-  }
-  if (module == "all") {
-    s.integrator = Integrator::VelocityVerlet;
-    s.drag = 0.1f;
-    s.wind = {0.4f, 0.0f, -0.3f};
-    e.lifetime = 1.5f;
-    const Emitter first = e;  // `e` dangles once the list grows
-    Emitter second = first;
-    second.particles = 7000;
-    second.shape = Shape::Sphere;
-    second.position = {1.0f, 3.0f, 0.5f};
-    second.mass = 0.4f;
-    second.burst = 500;
-    second.burstInterval = 0.2;
-    s.emitters.push_back(second);
-    Emitter third = first;
-    third.particles = 3000;
-    third.shape = Shape::Box;
-    third.size = {0.2f, 0.1f, 0.2f};
-    third.lifetime = 0.0f;
-    s.emitters.push_back(third);
-  }
-  return s;
+inline Scene moduleScene(const std::string& name) {
+  for (const scenes::ModuleScene& m : scenes::kModuleScenes)
+    if (name == m.name) return parseScene(m.toml, "scenes/modules/" + name + ".toml");
+  throw std::invalid_argument("no module scene '" + name + "'");
 }
 
 // A random scene: any integrator, emitter shapes, bursts and lifetimes, 0-3 forces and

@@ -15,6 +15,7 @@
 #include "lava/lava.h"
 #include "options.h"
 #include "runtime.h"
+#include "paths.h"
 
 namespace lava::app {
 namespace {
@@ -72,12 +73,12 @@ class BenchCommand final : public Command {
                    try {
                      setCpuSimdTarget(t);
                    } catch (const InvalidArgument& e) {
-                     throw host::UsageError(src + ": " + e.detail());
+                     throw UsageError(src + ": " + e.detail());
                    }
                  });
     options_.add("json", "also write the results to FILE.json",
                  [this](const std::string& src, const std::string& t) {
-                   host::checkOutputPath(src, t, ".json");
+                   checkOutputPath(src, t, ".json");
                    json_ = t;
                  });
   }
@@ -85,7 +86,7 @@ class BenchCommand final : public Command {
   int run() override {
     options_.resolve();
     if (options_.given("particles"))
-      throw host::UsageError("--particles: bench sets the counts with --sizes (e.g. --sizes " +
+      throw UsageError("--particles: bench sets the counts with --sizes (e.g. --sizes " +
                              options_.text("particles") + ")");
     Device context(deviceOptions(device_));
     const std::string device = context.properties().deviceName;
@@ -104,7 +105,7 @@ class BenchCommand final : public Command {
     progress_ = &progress;
     for (uint32_t n : sizes_) {
       if (n > context.maxParticles())
-        throw host::UsageError("--sizes: " + std::to_string(n) +
+        throw UsageError("--sizes: " + std::to_string(n) +
                                " particles exceed this device's " +
                                std::to_string(context.maxParticles()) + " (see 'lava info')");
       Scene scene = scene_;
@@ -241,7 +242,7 @@ class BenchCommand final : public Command {
     for (std::string item; std::getline(stream, item, ',');)
       sizes.push_back(static_cast<uint32_t>(parseInteger(source, item, 1, 0x80000000u)));
     if (sizes.empty() || text.back() == ',')
-      throw host::UsageError(source + ": expected comma-separated particle counts, got '" + text +
+      throw UsageError(source + ": expected comma-separated particle counts, got '" + text +
                              "'");
     return sizes;
   }
@@ -253,12 +254,12 @@ class BenchCommand final : public Command {
     for (std::string item; std::getline(stream, item, ',');) {
       if (item != "gpu" && item != "cpu" && item != "cpu-mt" && item != "cpu-simd" &&
           item != "cpu-simd-mt")
-        throw host::UsageError(source + ": expected a comma-separated subset of " + kBackends +
+        throw UsageError(source + ": expected a comma-separated subset of " + kBackends +
                                ", got '" + text + "'");
       backends.push_back(item);
     }
     if (backends.empty())
-      throw host::UsageError(source + ": expected at least one of " + std::string(kBackends));
+      throw UsageError(source + ": expected at least one of " + std::string(kBackends));
     return backends;
   }
 

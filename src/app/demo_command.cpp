@@ -13,6 +13,7 @@
 #include "options.h"
 #include "runtime.h"
 #include "window/demo_window.h"
+#include "paths.h"
 
 namespace lava::app {
 namespace {
@@ -20,7 +21,7 @@ namespace {
 // On a CPU device, llvmpipe (lavapipe) hands each of its threads one contiguous share of a
 // dispatch's workgroups, fixed in advance. The splat's work is uneven along the ring (young,
 // fast lava draws long lines; landed lava one pixel), so one thread finishes its share early
-// and its core idles while the other draws the rest (docs/benchmarks.md, "Two threads per
+// and its core idles while the other draws the rest (docs/benchmarks-history.md, "Two threads per
 // core"). With two threads per core the system's scheduler fills that core. Unless the user
 // chose LP_NUM_THREADS, the demo sets it before any Vulkan call; returns the value it set,
 // or 0. No other driver reads it.
@@ -93,7 +94,7 @@ class DemoCommand final : public Command {
     demo_.look = look_.settings;
     demo_.lines = lines_.value_or(defaultLineMode(demo_.scene.particles()));
     if (demo_.vsync && demo_.present == window::PresentPath::Shm)
-      throw host::UsageError("--vsync: needs --present swapchain (MIT-SHM has no vsync)");
+      throw UsageError("--vsync: needs --present swapchain (MIT-SHM has no vsync)");
     if (!headless_) {
       try {
         const window::DemoSummary s = window::runDemoWindow(demo_);

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "common/steps.h"
 #include "host/frame_renderer.h"
 #include "host/offscreen.h"
 #include "host/output.h"
@@ -16,6 +17,7 @@
 #include "lava/simulation.h"
 #include "options.h"
 #include "runtime.h"
+#include "paths.h"
 
 namespace lava::app {
 
@@ -24,7 +26,7 @@ VkExtent2D parseSize(const std::string& source, const std::string& text) {
   if (std::sscanf(text.c_str(), "%ux%u", &w, &h) != 2 || w == 0 || h == 0 || w > 65536 ||
       h > 65536 || text.find_first_not_of("0123456789x") != std::string::npos ||
       text != std::to_string(w) + "x" + std::to_string(h))
-    throw host::UsageError(source + ": expected WIDTHxHEIGHT with each in [1, 16384], got '" +
+    throw UsageError(source + ": expected WIDTHxHEIGHT with each in [1, 16384], got '" +
                            text + "'");
   return {w, h};
 }
@@ -32,17 +34,17 @@ VkExtent2D parseSize(const std::string& source, const std::string& text) {
 void checkSize(const Device& device, VkExtent2D size) {
   const uint32_t limit = device.limits().maxImageDimension2D;
   if (size.width > limit || size.height > limit)
-    throw host::UsageError("--size: expected each side in [1, " + std::to_string(limit) +
+    throw UsageError("--size: expected each side in [1, " + std::to_string(limit) +
                            "] on this device, got " + std::to_string(size.width) + "x" +
                            std::to_string(size.height));
 }
 
 std::string outputFolder(const std::string& source, const std::string& path) {
-  if (path.empty()) throw host::UsageError(source + ": expected a folder, got ''");
+  if (path.empty()) throw UsageError(source + ": expected a folder, got ''");
   struct stat info {};
   if (stat(path.c_str(), &info) == 0) {
     if (!S_ISDIR(info.st_mode) || access(path.c_str(), W_OK) != 0)
-      throw host::UsageError(source + ": '" + path + "' is not a writable folder");
+      throw UsageError(source + ": '" + path + "' is not a writable folder");
     return path;
   }
   // Created when the frames are written, not before: a usage error leaves no folder behind.
@@ -51,20 +53,20 @@ std::string outputFolder(const std::string& source, const std::string& path) {
       slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
   if (stat(parent.c_str(), &info) != 0 || !S_ISDIR(info.st_mode) ||
       access(parent.c_str(), W_OK) != 0)
-    throw host::UsageError(source + ": cannot create folder '" + path + "': '" + parent +
+    throw UsageError(source + ": cannot create folder '" + path + "': '" + parent +
                            "' is not a writable folder");
   return path;
 }
 
 void createOutputFolder(const std::string& path) {
   if (mkdir(path.c_str(), 0755) != 0 && errno != EEXIST)
-    throw host::UsageError("--out: cannot create folder '" + path + "': " + std::strerror(errno));
+    throw UsageError("--out: cannot create folder '" + path + "': " + std::strerror(errno));
 }
 
 LineMode parseLineMode(const std::string& source, const std::string& text) {
   if (text == "lines") return LineMode::Lines;
   if (text == "splat") return LineMode::Splat;
-  throw host::UsageError(source + ": expected lines or splat, got '" + text + "'");
+  throw UsageError(source + ": expected lines or splat, got '" + text + "'");
 }
 
 void addLookFlags(Options& options, LookOptions& look) {
@@ -77,7 +79,7 @@ void addLookFlags(Options& options, LookOptions& look) {
                 else if (t == "plain")
                   look.style = LookStyle::Plain;
                 else
-                  throw host::UsageError(src + ": expected lava or plain, got '" + t + "'");
+                  throw UsageError(src + ": expected lava or plain, got '" + t + "'");
               });
   options.add("exposure", "lava look: brightness before the tone map, (0, 16] [1]",
               [&look](const std::string& src, const std::string& t) {
@@ -110,16 +112,11 @@ double renderFrames(Device& device, const Scene& scene, const FramePlan& plan) {
   OrbitCamera camera;
   simulation.advance(scene.stepsIn(plan.warmup));
   const double stepsPerFrame = 1.0 / (plan.fps * double(scene.h()));
-  double owed = 0.0;
+  common::StepAccumulator owed;
   Progress progress("render", plan.frames);
   const auto start = std::chrono::steady_clock::now();
   for (uint32_t frame = 0; frame < plan.frames; ++frame) {
-    if (frame > 0) {
-      owed += stepsPerFrame;
-      const double whole = std::floor(owed);
-      owed -= whole;
-      simulation.advance(static_cast<uint64_t>(whole));
-    }
+    if (frame > 0) simulation.advance(owed.take(stepsPerFrame));
     camera.yaw = 0.6f + 0.15f * float(frame / plan.fps);  // a slow orbit
     const std::vector<uint8_t> pixels =
         host::renderOffscreen(submitter, renderer, simulation, target, camera);

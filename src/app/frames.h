@@ -8,6 +8,7 @@
 #include "lava/device.h"
 #include "lava/renderer.h"
 #include "lava/scene.h"
+#include "paths.h"
 
 namespace lava::app {
 

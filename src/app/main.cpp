@@ -18,6 +18,7 @@
 #include "lava/scene.h"
 #include "lava/version.h"
 #include "runtime.h"
+#include "paths.h"
 
 namespace {
 
@@ -133,7 +134,7 @@ int main(int argc, char** argv) {
   try {
     for (auto& command : commands)
       if (command->chosen()) return command->run();
-  } catch (const lava::host::UsageError& e) {
+  } catch (const lava::app::UsageError& e) {
     std::fprintf(stderr, "lava: %s\n", e.what());
     return 2;
   } catch (const lava::InvalidArgument& e) {

@@ -7,6 +7,7 @@
 
 #include "host/output.h"
 #include "lava/error.h"
+#include "paths.h"
 
 namespace lava::app {
 namespace {
@@ -19,7 +20,7 @@ std::string formatNumber(double value) {
 
 [[noreturn]] void reject(const std::string& source, const std::string& expected,
                          const std::string& text) {
-  throw host::UsageError(source + ": expected " + expected + ", got '" + text + "'");
+  throw UsageError(source + ": expected " + expected + ", got '" + text + "'");
 }
 
 bool readDouble(const std::string& text, double& value) {
@@ -119,9 +120,9 @@ void Options::resolve() {
       if (scene_) *scene_ = std::move(read);
     } catch (const InvalidArgument& e) {
       if (e.parameter() == scenePath_ || e.parameter() == "scene")  // the file as a whole
-        throw host::UsageError("--scene: " + (scenePath_.empty() ? "" : scenePath_ + ": ") +
+        throw UsageError("--scene: " + (scenePath_.empty() ? "" : scenePath_ + ": ") +
                                e.detail());
-      throw host::UsageError(e.what());
+      throw UsageError(e.what());
     }
   }
   if (scene_)
@@ -130,7 +131,7 @@ void Options::resolve() {
       try {
         setSceneKey(*scene_, KeyTable::Top, 0, key, values_.at(key));
       } catch (const InvalidArgument& e) {
-        throw host::UsageError("--" + e.parameter() + ": " + e.detail());
+        throw UsageError("--" + e.parameter() + ": " + e.detail());
       }
     }
   // What no single key decides (a zero normal, a cone's radii, the emitters' total), named
@@ -138,13 +139,13 @@ void Options::resolve() {
   if (scene_) try {
       validate(*scene_);
     } catch (const InvalidArgument& e) {
-      throw host::UsageError((scenePath_.empty() ? "--" : scenePath_ + ": ") + e.what());
+      throw UsageError((scenePath_.empty() ? "--" : scenePath_ + ": ") + e.what());
     }
   for (const auto& [name, value] : flags_) {
     if (command_.count("--" + name) > 0) continue;
     if (auto it = fromFile.find(name); it != fromFile.end()) {
       if (it->second != "true" && it->second != "false")
-        throw host::UsageError(scenePath_ + ": " + name + ": expected true or false, got '" +
+        throw UsageError(scenePath_ + ": " + name + ": expected true or false, got '" +
                                it->second + "'");
       *value = it->second == "true";
     }
@@ -155,7 +156,7 @@ void Options::resolve() {
     } else if (auto it = fromFile.find(spec.name); it != fromFile.end()) {
       spec.apply(scenePath_ + ": " + spec.name, it->second);
     } else if (spec.required) {
-      throw host::UsageError("--" + spec.name + " is required: " + spec.flag->get_description());
+      throw UsageError("--" + spec.name + " is required: " + spec.flag->get_description());
     }
   }
 }

@@ -16,7 +16,7 @@
 
 namespace lava::app {
 
-// Parsers: throw host::UsageError("<source>: expected ..., got '<text>'").
+// Parsers: throw UsageError("<source>: expected ..., got '<text>'").
 uint64_t parseInteger(const std::string& source, const std::string& text, uint64_t lo, uint64_t hi);
 double parseNumber(const std::string& source, const std::string& text, double lo, double hi,
                    bool loOpen = false);

@@ -17,6 +17,7 @@
 #include "lava/device.h"
 #include "options.h"
 #include "runtime.h"
+#include "paths.h"
 
 namespace lava::app {
 namespace {
@@ -95,10 +96,10 @@ class RenderCommand final : public Command {
     options_.add(
         "video", "also encode FILE.mp4 with ffmpeg (must be installed)",
         [this](const std::string& src, const std::string& t) {
-          host::checkOutputPath(src, t, ".mp4");
+          checkOutputPath(src, t, ".mp4");
           ffmpeg_ = findFfmpeg();
           if (ffmpeg_.empty())
-            throw host::UsageError(src + ": needs ffmpeg on the PATH (Debian: apt install ffmpeg)");
+            throw UsageError(src + ": needs ffmpeg on the PATH (Debian: apt install ffmpeg)");
           video_ = t;
         });
   }

@@ -9,6 +9,7 @@
 
 #include "host/output.h"
 #include "host/vulkan.h"
+#include "paths.h"
 
 namespace lava::app {
 
@@ -32,7 +33,7 @@ DeviceOptions deviceOptions(std::optional<unsigned> device) {
   options.index = device;
   if (const char* profile = std::getenv("LAVA_DEVICE_PROFILE");
       profile && !host::applyDeviceProfile(options, profile))
-    throw host::UsageError(std::string("LAVA_DEVICE_PROFILE: expected ") + host::kDeviceProfiles +
+    throw UsageError(std::string("LAVA_DEVICE_PROFILE: expected ") + host::kDeviceProfiles +
                            ", got '" + profile + "'");
   if (!device)
     if (const char* env = std::getenv("LAVA_DEVICE"); env && *env) {
@@ -40,7 +41,7 @@ DeviceOptions deviceOptions(std::optional<unsigned> device) {
       errno = 0;
       const unsigned long value = std::strtoul(env, &end, 10);
       if (*end != '\0' || errno != 0 || env[0] == '-' || value > 255)
-        throw host::UsageError(std::string("LAVA_DEVICE: expected a device index from 'lava info', "
+        throw UsageError(std::string("LAVA_DEVICE: expected a device index from 'lava info', "
                                            "got '") +
                                env + "'");
       options.index = static_cast<unsigned>(value);

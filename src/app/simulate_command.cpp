@@ -14,6 +14,7 @@
 #include "options.h"
 #include "resume.h"
 #include "runtime.h"
+#include "paths.h"
 
 namespace lava::app {
 namespace {
@@ -41,7 +42,7 @@ class SimulateCommand final : public Command {
                  "the same bytes) [gpu]",
                  [this](const std::string& src, const std::string& t) {
                    if (t != "gpu" && t != "cpu" && t != "cpu-simd")
-                     throw host::UsageError(src + ": expected gpu, cpu or cpu-simd, got '" + t +
+                     throw UsageError(src + ": expected gpu, cpu or cpu-simd, got '" + t +
                                             "'");
                    gpu_ = t == "gpu";
                    kernel_ = t == "cpu-simd" ? CpuKernel::Simd : CpuKernel::Reference;
@@ -52,14 +53,14 @@ class SimulateCommand final : public Command {
                  });
     options_.add("out", "write the final state to FILE.npy or FILE.csv",
                  [this](const std::string& src, const std::string& t) {
-                   host::checkStatePath(src, t);
+                   checkStatePath(src, t);
                    out_ = t;
                  });
     options_.add("checkpoint",
                  "write the run's state and scene to FILE.npz at the end, every "
                  "--checkpoint-every steps, and on SIGINT/SIGTERM (then exit 130/143)",
                  [this](const std::string& src, const std::string& t) {
-                   host::checkOutputPath(src, t, ".npz");
+                   checkOutputPath(src, t, ".npz");
                    checkpoint_ = t;
                  });
     options_.add("checkpoint-every", "with --checkpoint: also every K steps, 1..1e9 [at the end]",
@@ -78,7 +79,7 @@ class SimulateCommand final : public Command {
     const std::optional<Snapshot> resumed = readResume(options_, scene_);
     options_.resolve();
     if (every_ && checkpoint_.empty())
-      throw host::UsageError("--checkpoint-every: needs --checkpoint FILE.npz");
+      throw UsageError("--checkpoint-every: needs --checkpoint FILE.npz");
     if (resumed) checkResumedScene(scene_, resumed->scene);
     std::unique_ptr<Device> device;
     std::unique_ptr<Simulation> simulation;
@@ -168,7 +169,7 @@ class SimulateCommand final : public Command {
     try {
       writeCheckpoint(checkpoint_, scene_, state);
     } catch (const ResourceError& e) {
-      throw host::UsageError("--checkpoint: " + std::string(e.what()));
+      throw UsageError("--checkpoint: " + std::string(e.what()));
     }
     return state;
   }

@@ -13,6 +13,7 @@
 #include "lava/lava.h"
 #include "options.h"
 #include "runtime.h"
+#include "paths.h"
 
 namespace lava::app {
 namespace {
@@ -47,7 +48,7 @@ class StudyCommand final : public Command {
                      try {
                        setSceneKey(probe, KeyTable::Top, 0, "integrator", name);
                      } catch (const InvalidArgument& e) {
-                       throw host::UsageError(src + ": " + e.detail());
+                       throw UsageError(src + ": " + e.detail());
                      }
                      integrators_.push_back(probe.integrator);
                    }
@@ -64,12 +65,12 @@ class StudyCommand final : public Command {
                  });
     options_.add("csv", "also write the table to FILE.csv",
                  [this](const std::string& src, const std::string& t) {
-                   host::checkOutputPath(src, t, ".csv");
+                   checkOutputPath(src, t, ".csv");
                    csv_ = t;
                  });
     options_.add("energy-csv", "also write E(t)/E(0) over time, every run, to FILE.csv",
                  [this](const std::string& src, const std::string& t) {
-                   host::checkOutputPath(src, t, ".csv");
+                   checkOutputPath(src, t, ".csv");
                    energyCsv_ = t;
                  });
   }
@@ -111,7 +112,7 @@ class StudyCommand final : public Command {
     std::stringstream stream(text);
     for (std::string item; std::getline(stream, item, ',');) items.push_back(item);
     if (items.empty() || text.back() == ',')
-      throw host::UsageError(source + ": expected a comma-separated list, got '" + text + "'");
+      throw UsageError(source + ": expected a comma-separated list, got '" + text + "'");
     return items;
   }
 

@@ -10,6 +10,8 @@
 
 #include "host/output.h"
 #include "lava/error.h"
+#include "module_scenes.h"
+#include "paths.h"
 
 namespace lava::app {
 namespace {
@@ -22,7 +24,7 @@ std::string folderOf(const std::string& path) {
 uint64_t integer(const std::string& where, const toml::node& node, uint64_t lo, uint64_t hi) {
   const auto value = node.as_integer();
   if (!value || value->get() < int64_t(lo) || uint64_t(value->get()) > hi)
-    throw host::UsageError(where + ": expected an integer in [" + std::to_string(lo) + ", " +
+    throw UsageError(where + ": expected an integer in [" + std::to_string(lo) + ", " +
                            std::to_string(hi) + "]");
   return uint64_t(value->get());
 }
@@ -121,23 +123,23 @@ const char* statusName(Status status) {
 
 std::vector<Case> loadSuite(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
-  if (!file) throw host::UsageError("--suite: cannot read '" + path + "' (or give 'builtin')");
+  if (!file) throw UsageError("--suite: cannot read '" + path + "' (or give 'builtin')");
   std::stringstream contents;
   contents << file.rdbuf();
   toml::table root;
   try {
     root = toml::parse(contents.str(), path);
   } catch (const toml::parse_error& e) {
-    throw host::UsageError("--suite: " + path + ":" + std::to_string(e.source().begin.line) +
+    throw UsageError("--suite: " + path + ":" + std::to_string(e.source().begin.line) +
                            ": not valid TOML (" + std::string(e.description()) + ")");
   }
   for (const auto& [key, node] : root)
     if (key.str() != "case")
-      throw host::UsageError("--suite: " + path + ": " + std::string(key.str()) +
+      throw UsageError("--suite: " + path + ": " + std::string(key.str()) +
                              ": unknown key (a suite holds [[case]] tables)");
   const toml::array* cases = root["case"].as_array();
   if (!cases || !cases->is_array_of_tables() || cases->empty())
-    throw host::UsageError("--suite: " + path + ": expected [[case]] tables");
+    throw UsageError("--suite: " + path + ": expected [[case]] tables");
   std::vector<Case> out;
   std::set<std::string> names;
   for (size_t i = 0; i < cases->size(); ++i) {
@@ -146,12 +148,12 @@ std::vector<Case> loadSuite(const std::string& path) {
     Case c;
     const auto name = table["name"].value<std::string>();
     if (!name || name->empty() || name->find_first_of(",\n\"") != std::string::npos)
-      throw host::UsageError(at + ".name: expected a name without commas or quotes");
+      throw UsageError(at + ".name: expected a name without commas or quotes");
     c.name = *name;
     if (!names.insert(c.name).second)
-      throw host::UsageError(at + ".name: '" + c.name + "' is used twice");
+      throw UsageError(at + ".name: '" + c.name + "' is used twice");
     const toml::node* steps = table.get("steps");
-    if (!steps) throw host::UsageError(at + ".steps: required");
+    if (!steps) throw UsageError(at + ".steps: required");
     c.steps = integer(at + ".steps", *steps, 1, 1000000000);
     if (const toml::node* every = table.get("every"))
       c.every = integer(at + ".every", *every, 1, 1000000000);
@@ -167,7 +169,7 @@ std::vector<Case> loadSuite(const std::string& path) {
       if (const toml::node* scene = table.get("scene")) {
         const auto sceneFile = scene->value<std::string>();
         if (!sceneFile || sceneFile->empty() || table.size() != 1)
-          throw host::UsageError(at + ".scene: expected a file name, and no scene keys beside it");
+          throw UsageError(at + ".scene: expected a file name, and no scene keys beside it");
         c.scene =
             loadScene(sceneFile->front() == '/' ? *sceneFile : folderOf(path) + "/" + *sceneFile);
       } else {
@@ -177,7 +179,7 @@ std::vector<Case> loadSuite(const std::string& path) {
       }
       validate(c.scene);
     } catch (const InvalidArgument& e) {
-      throw host::UsageError((e.parameter().rfind(at, 0) == 0 ? "" : at + ": ") +
+      throw UsageError((e.parameter().rfind(at, 0) == 0 ? "" : at + ": ") +
                              std::string(e.what()));
     }
     out.push_back(std::move(c));
@@ -188,46 +190,9 @@ std::vector<Case> loadSuite(const std::string& path) {
 std::vector<Case> builtinSuite(const Device& device) {
   std::vector<Case> cases;
   cases.push_back(named("seed-scene", Scene{}));
-  for (Shape shape : {Shape::Point, Shape::Disc, Shape::Sphere, Shape::Box}) {
-    Scene s = busy();
-    s.emitters[0].shape = shape;
-    s.emitters[0].radius = 0.4f;
-    s.emitters[0].size = {0.5f, 0.2f, 0.3f};
-    cases.push_back(named(std::string("shape-") + name(shape), s));
-  }
-  {
-    Scene s = busy();
-    s.forces.push_back({ForceType::Attractor, {0.5f, 2.0f, 0.0f}, {}, 8.0f, 1.5f});
-    cases.push_back(named("force-attractor", s));
-    s.forces = {{ForceType::Vortex, {0.0f, 0.0f, 0.0f}, {0.0f, 1.5f, 0.2f}, 2.0f, 0.0f}};
-    cases.push_back(named("force-vortex", s));
-  }
-  for (ColliderType type :
-       {ColliderType::Plane, ColliderType::Sphere, ColliderType::Box, ColliderType::Cone}) {
-    Scene s = busy();
-    Collider c;
-    c.type = type;
-    c.position = type == ColliderType::Sphere  ? Vec3{0.3f, 2.5f, 0.0f}
-                 : type == ColliderType::Box   ? Vec3{-0.8f, 0.4f, 0.2f}
-                 : type == ColliderType::Plane ? Vec3{0.0f, 0.0f, -1.0f}
-                                               : Vec3{};
-    c.normal = {0.0f, 0.3f, 1.0f};
-    c.size = {0.4f, 0.4f, 0.5f};
-    c.baseRadius = 1.6f;
-    c.topRadius = 0.25f;
-    c.height = 0.9f;
-    c.restitution = 0.6f;
-    c.friction = 0.8f;
-    s.colliders.push_back(c);
-    cases.push_back(named(std::string("collider-") + name(type), s));
-  }
-  for (Integrator integrator : {Integrator::SemiImplicitEuler, Integrator::VelocityVerlet}) {
-    Scene s = busy();
-    s.integrator = integrator;
-    s.drag = 0.2f;
-    s.wind = {0.5f, 0.0f, -0.2f};
-    cases.push_back(named(std::string("integrator-") + name(integrator), s));
-  }
+  // Each module on its own and all of them together: the scenes the tests run.
+  for (const scenes::ModuleScene& m : scenes::kModuleScenes)
+    cases.push_back(named(m.name, parseScene(m.toml, std::string(m.name) + ".toml")));
   {
     Scene s = busy();
     s.emitters[0].particles = 97;
@@ -236,13 +201,6 @@ std::vector<Case> builtinSuite(const Device& device) {
     s = busy();
     s.emitters[0].rate = 3333.3;
     cases.push_back(named("fractional-rate", s));
-    s = busy();
-    s.emitters[0].burst = 4000;
-    s.emitters[0].burstInterval = 0.25;
-    cases.push_back(named("bursts", s));
-    s = busy();
-    s.emitters[0].lifetime = 0.6f;
-    cases.push_back(named("lifetimes", s));
     s = Scene{};
     s.gravity = 0.0f;
     s.drag = 5.0f;
@@ -267,54 +225,28 @@ std::vector<Case> builtinSuite(const Device& device) {
     beyond.chunkParticles = kLeastBinding;
     if (s.particles() <= device.maxParticles()) cases.push_back(beyond);
   }
-  {
-    Scene s = busy();
-    s.integrator = Integrator::VelocityVerlet;
-    s.drag = 0.1f;
-    s.wind = {0.4f, 0.0f, -0.3f};
-    s.emitters[0].lifetime = 1.5f;
-    Emitter second = s.emitters[0];
-    second.particles = 7000;
-    second.shape = Shape::Sphere;
-    second.position = {1.0f, 3.0f, 0.5f};
-    second.mass = 0.4f;
-    second.burst = 500;
-    second.burstInterval = 0.2;
-    Emitter third = s.emitters[0];
-    third.particles = 3000;
-    third.shape = Shape::Box;
-    third.size = {0.2f, 0.1f, 0.2f};
-    third.lifetime = 0.0f;
-    s.emitters.push_back(second);
-    s.emitters.push_back(third);
-    s.forces.push_back({ForceType::Attractor, {0.5f, 2.0f, 0.0f}, {}, 8.0f, 1.5f});
-    s.forces.push_back({ForceType::Vortex, {0.0f, 0.0f, 0.0f}, {0.0f, 1.5f, 0.2f}, 2.0f, 0.0f});
-    for (const Case& c : cases)
-      if (c.name.rfind("collider-", 0) == 0) s.colliders.push_back(c.scene.colliders.at(0));
-    cases.push_back(named("everything", s));
-  }
   return cases;
 }
 
 Recording readRecording(const std::string& path) {
   std::ifstream file(path);
-  if (!file) throw host::UsageError("--against: cannot read '" + path + "'");
+  if (!file) throw UsageError("--against: cannot read '" + path + "'");
   Recording out;
   std::string line;
   std::getline(file, line);
   if (line != "case,step,hash")
-    throw host::UsageError("--against: " + path + ": expected the header case,step,hash");
+    throw UsageError("--against: " + path + ": expected the header case,step,hash");
   for (int number = 2; std::getline(file, line); ++number) {
     if (line.empty()) continue;
     const size_t a = line.find(','), b = line.rfind(',');
     char* end = nullptr;
     if (a == std::string::npos || a == b)
-      throw host::UsageError("--against: " + path + ":" + std::to_string(number) +
+      throw UsageError("--against: " + path + ":" + std::to_string(number) +
                              ": expected case,step,hash");
     const uint64_t step = std::strtoull(line.c_str() + a + 1, &end, 10);
     const uint64_t hash = std::strtoull(line.c_str() + b + 1, &end, 16);
     if (*end != '\0')
-      throw host::UsageError("--against: " + path + ":" + std::to_string(number) +
+      throw UsageError("--against: " + path + ":" + std::to_string(number) +
                              ": expected a hexadecimal hash");
     out[line.substr(0, a)][step] = hash;
   }
@@ -335,14 +267,14 @@ std::string recordingText(const std::vector<CaseResult>& results) {
 
 std::set<std::string> readBaseline(const std::string& path) {
   std::ifstream file(path);
-  if (!file) throw host::UsageError("--baseline: cannot read '" + path + "'");
+  if (!file) throw UsageError("--baseline: cannot read '" + path + "'");
   std::set<std::string> failing;
   std::string line;
   for (int number = 1; std::getline(file, line); ++number) {
     if (line.empty() || line[0] == '#') continue;
     const size_t comma = line.find(',');
     if (comma == std::string::npos || line.substr(comma + 1) != "Fail")
-      throw host::UsageError("--baseline: " + path + ":" + std::to_string(number) +
+      throw UsageError("--baseline: " + path + ":" + std::to_string(number) +
                              ": expected 'case,Fail', got '" + line + "'");
     failing.insert(line.substr(0, comma));
   }

@@ -14,6 +14,7 @@
 #include "resume.h"
 #include "runtime.h"
 #include "suite.h"
+#include "paths.h"
 
 namespace lava::app {
 namespace {
@@ -45,31 +46,31 @@ class ValidateCommand final : public Command {
                  "twin, the same bytes, faster for big scenes) [cpu]",
                  [this](const std::string& src, const std::string& t) {
                    if (t != "cpu" && t != "cpu-simd")
-                     throw host::UsageError(src + ": expected cpu or cpu-simd, got '" + t + "'");
+                     throw UsageError(src + ": expected cpu or cpu-simd, got '" + t + "'");
                    kernel_ = t == "cpu-simd" ? CpuKernel::Simd : CpuKernel::Reference;
                  });
     options_.add("csv", "also write the table to FILE.csv",
                  [this](const std::string& src, const std::string& t) {
-                   host::checkOutputPath(src, t, ".csv");
+                   checkOutputPath(src, t, ".csv");
                    csv_ = t;
                  });
     options_.add("suite", "run a suite of cases: FILE.toml ([[case]] tables) or builtin",
                  [this](const std::string&, const std::string& t) { suite_ = t; });
     options_.add("junit", "with --suite: write a JUnit XML report to FILE.xml",
                  [this](const std::string& src, const std::string& t) {
-                   host::checkOutputPath(src, t, ".xml");
+                   checkOutputPath(src, t, ".xml");
                    junit_ = t;
                  });
     options_.add("results", "with --suite: write case,status,... to FILE.csv",
                  [this](const std::string& src, const std::string& t) {
-                   host::checkOutputPath(src, t, ".csv");
+                   checkOutputPath(src, t, ".csv");
                    results_ = t;
                  });
     options_.add("baseline", "with --suite: FILE of 'case,Fail' lines expected to fail",
                  [this](const std::string&, const std::string& t) { baseline_ = t; });
     options_.add("record", "with --suite: write each checkpoint's state hash to FILE.csv",
                  [this](const std::string& src, const std::string& t) {
-                   host::checkOutputPath(src, t, ".csv");
+                   checkOutputPath(src, t, ".csv");
                    record_ = t;
                  });
     options_.add("against", "with --suite: compare the GPU to hashes --record wrote (no CPU)",
@@ -85,17 +86,17 @@ class ValidateCommand final : public Command {
     options_.resolve();
     if (resumed_) {
       checkResumedScene(scene_, resumed_->scene);
-      if (!suite_.empty()) throw host::UsageError("--resume: not with --suite");
+      if (!suite_.empty()) throw UsageError("--resume: not with --suite");
     }
     if (suite_.empty()) {
       for (const char* flag : {"junit", "results", "baseline", "record", "against"})
         if (options_.given(flag))
-          throw host::UsageError(std::string("--") + flag + ": needs --suite");
-      if (steps_ == 0) throw host::UsageError("--steps is required: steps to run, 1..1e9");
+          throw UsageError(std::string("--") + flag + ": needs --suite");
+      if (steps_ == 0) throw UsageError("--steps is required: steps to run, 1..1e9");
       return single();
     }
     if (options_.given("steps") || options_.given("every") || options_.given("csv"))
-      throw host::UsageError(std::string("--") +
+      throw UsageError(std::string("--") +
                              (options_.given("steps")   ? "steps"
                               : options_.given("every") ? "every"
                                                         : "csv") +

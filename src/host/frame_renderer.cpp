@@ -187,7 +187,7 @@ bool FrameRenderer::copyBackdrop(VkCommandBuffer commands, uint32_t frame,
 // previous frame. The cached colour is read back once (this frame), then written by the host
 // from the next frame in this slot on, when the read-back has surely finished. Not under
 // the splat, whose long dispatches keep every core busy: there it does not pay
-// (docs/benchmarks.md, "The backdrop written by the host").
+// (docs/benchmarks-history.md, "The backdrop written by the host").
 bool FrameRenderer::writeBackdropFromHost(VkCommandBuffer commands, uint32_t frame,
                                           const FrameTarget& target) {
   if (lines_.mode() == LineMode::Splat) return false;

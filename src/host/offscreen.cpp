@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstring>
 
+#include "common/images.h"
+
 namespace lava::host {
 namespace {
 
@@ -13,19 +15,11 @@ constexpr VkImageUsageFlags kHostColorUsage =
 OwnedImage createHostColorImage(VkDevice device, VkExtent2D extent, VkFormat format) {
   VkExternalMemoryImageCreateInfo external{VK_STRUCTURE_TYPE_EXTERNAL_MEMORY_IMAGE_CREATE_INFO};
   external.handleTypes = kHostHandle;
-  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  VkImageCreateInfo info =
+      common::imageInfo2D(extent, format, kHostColorUsage, VK_IMAGE_TILING_LINEAR);
   info.pNext = &external;
-  info.imageType = VK_IMAGE_TYPE_2D;
-  info.format = format;
-  info.extent = {extent.width, extent.height, 1};
-  info.mipLevels = 1;
-  info.arrayLayers = 1;
-  info.samples = VK_SAMPLE_COUNT_1_BIT;
-  info.tiling = VK_IMAGE_TILING_LINEAR;
-  info.usage = kHostColorUsage;
-  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
   VkImage image = VK_NULL_HANDLE;
-  HOST_CHECK(vkCreateImage(device, &info, nullptr, &image));
+  VK_CHECK(vkCreateImage(device, &info, nullptr, &image));
   return OwnedImage(device, image);
 }
 
@@ -39,7 +33,7 @@ Image importHostColorImage(const Device& device, VkExtent2D extent, VkFormat for
       vkGetDeviceProcAddr(handle, "vkGetMemoryHostPointerPropertiesEXT"));
   if (!pointerProperties) throw ResourceError("VK_EXT_external_memory_host is not enabled");
   VkMemoryHostPointerPropertiesEXT pointer{VK_STRUCTURE_TYPE_MEMORY_HOST_POINTER_PROPERTIES_EXT};
-  HOST_CHECK(pointerProperties(handle, kHostHandle, host, &pointer));
+  VK_CHECK(pointerProperties(handle, kHostHandle, host, &pointer));
   VkMemoryRequirements requirements;
   vkGetImageMemoryRequirements(handle, out.image, &requirements);
   VkImportMemoryHostPointerInfoEXT import{VK_STRUCTURE_TYPE_IMPORT_MEMORY_HOST_POINTER_INFO_EXT};
@@ -50,7 +44,7 @@ Image importHostColorImage(const Device& device, VkExtent2D extent, VkFormat for
       memoryType(device, requirements.memoryTypeBits & pointer.memoryTypeBits,
                  VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT),
       &import);
-  HOST_CHECK(vkBindImageMemory(handle, out.image, out.memory, 0));
+  VK_CHECK(vkBindImageMemory(handle, out.image, out.memory, 0));
   out.view = createView(device, out.image, format, VK_IMAGE_ASPECT_COLOR_BIT);
   return out;
 }

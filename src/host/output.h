@@ -2,25 +2,12 @@
 // whole (through a temporary of its own in the same folder, renamed into place) or not at all.
 #pragma once
 #include <cstdint>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "lava/state.h"
 
 namespace lava::host {
-
-// Bad input from the user (exit status 2): the message names the flag and what it accepts.
-class UsageError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-// Throw UsageError naming `flag` unless `path` ends in `extension` (or, for states, .npy or
-// .csv) and its folder is writable.
-void checkOutputPath(const std::string& flag, const std::string& path,
-                     const std::string& extension);
-void checkStatePath(const std::string& flag, const std::string& path);
 
 // .npy (float32, shape (slots, 7)) or .csv, columns px py pz vx vy vz age (-1: not alive).
 void writeState(const std::string& path, const std::vector<Particle>& particles);

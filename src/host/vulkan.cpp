@@ -2,6 +2,9 @@
 
 #include <string>
 
+#include "common/barriers.h"
+#include "common/images.h"
+
 namespace lava::host {
 
 uint32_t memoryType(const Device& device, uint32_t typeBits, VkMemoryPropertyFlags required,
@@ -33,7 +36,7 @@ OwnedMemory allocate(const Device& device, VkDeviceSize size, uint32_t type, con
                         (size >= (VkDeviceSize{1} << 20) ? std::to_string(size >> 20) + " MiB"
                                                          : std::to_string(size) + " bytes") +
                         " on the Vulkan device failed with " + resultName(result));
-  HOST_CHECK(result);
+  VK_CHECK(result);
   return OwnedMemory(device.handles().device, memory);
 }
 
@@ -45,7 +48,7 @@ OwnedImageView createView(const Device& device, VkImage image, VkFormat format,
   info.format = format;
   info.subresourceRange = {aspect, 0, 1, 0, 1};
   VkImageView view = VK_NULL_HANDLE;
-  HOST_CHECK(vkCreateImageView(device.handles().device, &info, nullptr, &view));
+  VK_CHECK(vkCreateImageView(device.handles().device, &info, nullptr, &view));
   return OwnedImageView(device.handles().device, view);
 }
 
@@ -55,7 +58,7 @@ ReadbackBuffer::ReadbackBuffer(const Device& device, VkDeviceSize size)
   info.size = size;
   info.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   VkBuffer buffer = VK_NULL_HANDLE;
-  HOST_CHECK(vkCreateBuffer(device_, &info, nullptr, &buffer));
+  VK_CHECK(vkCreateBuffer(device_, &info, nullptr, &buffer));
   buffer_ = OwnedBuffer(device_, buffer);
   VkMemoryRequirements requirements;
   vkGetBufferMemoryRequirements(device_, buffer, &requirements);
@@ -64,8 +67,8 @@ ReadbackBuffer::ReadbackBuffer(const Device& device, VkDeviceSize size)
                  VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
   memory_ = allocate(device, requirements.size, type);
   coherent_ = coherent(device, type);
-  HOST_CHECK(vkBindBufferMemory(device_, buffer, memory_, 0));
-  HOST_CHECK(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
+  VK_CHECK(vkBindBufferMemory(device_, buffer, memory_, 0));
+  VK_CHECK(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
 }
 
 void ReadbackBuffer::recordCopy(VkCommandBuffer commands, VkImage image, VkExtent2D extent) const {
@@ -83,7 +86,7 @@ const void* ReadbackBuffer::read() const {
   if (!coherent_) {
     VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, memory_, 0,
                               VK_WHOLE_SIZE};
-    HOST_CHECK(vkInvalidateMappedMemoryRanges(device_, 1, &range));
+    VK_CHECK(vkInvalidateMappedMemoryRanges(device_, 1, &range));
   }
   return mapped_;
 }
@@ -91,26 +94,17 @@ const void* ReadbackBuffer::read() const {
 Image createImage(const Device& device, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage,
                   VkImageAspectFlags aspect) {
   VkDevice handle = device.handles().device;
-  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-  info.imageType = VK_IMAGE_TYPE_2D;
-  info.format = format;
-  info.extent = {extent.width, extent.height, 1};
-  info.mipLevels = 1;
-  info.arrayLayers = 1;
-  info.samples = VK_SAMPLE_COUNT_1_BIT;
-  info.tiling = VK_IMAGE_TILING_OPTIMAL;
-  info.usage = usage;
-  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  const VkImageCreateInfo info = common::imageInfo2D(extent, format, usage);
   Image out;
   VkImage image = VK_NULL_HANDLE;
-  HOST_CHECK(vkCreateImage(handle, &info, nullptr, &image));
+  VK_CHECK(vkCreateImage(handle, &info, nullptr, &image));
   out.image = OwnedImage(handle, image);
   VkMemoryRequirements requirements;
   vkGetImageMemoryRequirements(handle, image, &requirements);
   out.memory = allocate(
       device, requirements.size,
       memoryType(device, requirements.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT));
-  HOST_CHECK(vkBindImageMemory(handle, image, out.memory, 0));
+  VK_CHECK(vkBindImageMemory(handle, image, out.memory, 0));
   out.view = createView(device, image, format, aspect);
   return out;
 }
@@ -126,22 +120,13 @@ VkImageUsageFlags copyTargetUsage(const Device& device, VkFormat format) {
 void imageBarrier(VkCommandBuffer commands, VkImage image, VkImageAspectFlags aspect,
                   VkImageLayout from, VkImageLayout to, VkPipelineStageFlags srcStage,
                   VkAccessFlags srcAccess, VkPipelineStageFlags dstStage, VkAccessFlags dstAccess) {
-  VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-  barrier.srcAccessMask = srcAccess;
-  barrier.dstAccessMask = dstAccess;
-  barrier.oldLayout = from;
-  barrier.newLayout = to;
-  barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  barrier.image = image;
-  barrier.subresourceRange = {aspect, 0, 1, 0, 1};
-  vkCmdPipelineBarrier(commands, srcStage, dstStage, 0, 0, nullptr, 0, nullptr, 1, &barrier);
+  common::imageBarrier(vkCmdPipelineBarrier, commands, image, aspect, from, to, srcStage,
+                       srcAccess, dstStage, dstAccess);
 }
 
 void memoryBarrier(VkCommandBuffer commands, VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
                    VkPipelineStageFlags dstStage, VkAccessFlags dstAccess) {
-  VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, srcAccess, dstAccess};
-  vkCmdPipelineBarrier(commands, srcStage, dstStage, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+  common::memoryBarrier(vkCmdPipelineBarrier, commands, srcStage, srcAccess, dstStage, dstAccess);
 }
 
 Submitter::Submitter(const Device& device) : device_(device) {
@@ -149,7 +134,7 @@ Submitter::Submitter(const Device& device) : device_(device) {
   info.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
   info.queueFamilyIndex = device.handles().queueFamily;
   VkCommandPool pool = VK_NULL_HANDLE;
-  HOST_CHECK(vkCreateCommandPool(device.handles().device, &info, nullptr, &pool));
+  VK_CHECK(vkCreateCommandPool(device.handles().device, &info, nullptr, &pool));
   pool_ = OwnedCommandPool(device.handles().device, pool);
 }
 
@@ -159,10 +144,10 @@ VkCommandBuffer Submitter::begin() const {
   alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   alloc.commandBufferCount = 1;
   VkCommandBuffer commands = VK_NULL_HANDLE;
-  HOST_CHECK(vkAllocateCommandBuffers(device_.handles().device, &alloc, &commands));
+  VK_CHECK(vkAllocateCommandBuffers(device_.handles().device, &alloc, &commands));
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  HOST_CHECK(vkBeginCommandBuffer(commands, &begin));
+  VK_CHECK(vkBeginCommandBuffer(commands, &begin));
   return commands;
 }
 
@@ -174,15 +159,15 @@ void Submitter::endAndWait(VkCommandBuffer commands) const {
     VkCommandBuffer commands;
     ~Free() { vkFreeCommandBuffers(device, pool, 1, &commands); }
   } free{device, pool_, commands};
-  HOST_CHECK(vkEndCommandBuffer(commands));
+  VK_CHECK(vkEndCommandBuffer(commands));
   VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
   VkFence raw = VK_NULL_HANDLE;
-  HOST_CHECK(vkCreateFence(device, &fenceInfo, nullptr, &raw));
+  VK_CHECK(vkCreateFence(device, &fenceInfo, nullptr, &raw));
   const OwnedFence fence(device, raw);
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &commands;
-  HOST_CHECK(vkQueueSubmit(device_.handles().queue, 1, &submit, fence));
+  VK_CHECK(vkQueueSubmit(device_.handles().queue, 1, &submit, fence));
   const VkResult waited = vkWaitForFences(device, 1, &raw, VK_TRUE, UINT64_MAX);
   if (waited != VK_SUCCESS) {
     vkDeviceWaitIdle(device);  // the work may still run: free nothing it uses before

@@ -1,52 +1,25 @@
-// What the `lava` program needs of Vulkan beyond Lava's API, as any host application
-// would write it: checked calls, owned handles, device-local images, one-shot submissions.
-// It uses the Vulkan loader's functions and Lava's public headers only.
+// What the `lava` program needs of Vulkan beyond Lava's API, as a host application would
+// write it: checked calls, owned handles, device-local images, one-shot submissions. It
+// calls the Vulkan loader's functions, Lava's public API, and the pieces in src/common.
 #pragma once
 #include <vulkan/vulkan.h>
 
 #include <string>
 #include <utility>
 
+#include "common/check.h"
+#include "common/unique.h"
 #include "lava/device.h"
 #include "lava/error.h"
 
-#define HOST_CHECK(call)                                                 \
-  do {                                                                   \
-    const VkResult hostResult_ = (call);                                 \
-    if (hostResult_ != VK_SUCCESS)                                       \
-      throw ::lava::VulkanError(hostResult_, #call, __FILE__, __LINE__); \
-  } while (0)
-
 namespace lava::host {
 
-// One device-level handle, destroyed with `Destroy` (vkDestroy* or vkFreeMemory).
-template <typename T, void (*Destroy)(VkDevice, T, const VkAllocationCallbacks*)>
-class Owned {
+// One device-level handle, destroyed with the loader's `Destroy` (vkDestroy* or vkFreeMemory).
+template <typename T, common::DestroyFn<T> Destroy>
+class Owned : public common::Unique<T> {
  public:
   Owned() = default;
-  Owned(VkDevice device, T handle) : device_(device), handle_(handle) {}
-  Owned(Owned&& o) noexcept : device_(o.device_), handle_(std::exchange(o.handle_, T{})) {}
-  Owned& operator=(Owned&& o) noexcept {
-    if (this != &o) {
-      reset();
-      device_ = o.device_;
-      handle_ = std::exchange(o.handle_, T{});
-    }
-    return *this;
-  }
-  Owned(const Owned&) = delete;
-  Owned& operator=(const Owned&) = delete;
-  ~Owned() { reset(); }
-  T get() const { return handle_; }
-  operator T() const { return handle_; }  // NOLINT: used like the raw handle
-  void reset() {
-    if (handle_ != T{}) Destroy(device_, handle_, nullptr);
-    handle_ = T{};
-  }
-
- private:
-  VkDevice device_ = VK_NULL_HANDLE;
-  T handle_{};
+  Owned(VkDevice device, T handle) : common::Unique<T>(device, nullptr, Destroy, handle) {}
 };
 
 using OwnedImage = Owned<VkImage, vkDestroyImage>;

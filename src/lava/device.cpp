@@ -9,7 +9,7 @@
 
 #include "lava/error.h"
 #include "shared.h"
-#include "vulkan/check.h"
+#include "common/check.h"
 #include "vulkan/device_context.h"
 
 namespace lava {

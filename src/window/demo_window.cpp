@@ -19,6 +19,7 @@
 #include <optional>
 #include <vector>
 
+#include "common/steps.h"
 #include "frame_timer.h"
 #include "host/frame_renderer.h"
 #include "host/offscreen.h"
@@ -72,7 +73,7 @@ struct Surface {
   VkSurfaceKHR handle = VK_NULL_HANDLE;
   Surface() = default;
   Surface(VkInstance i, GLFWwindow* window) : instance(i) {
-    HOST_CHECK(glfwCreateWindowSurface(instance, window, nullptr, &handle));
+    VK_CHECK(glfwCreateWindowSurface(instance, window, nullptr, &handle));
   }
   Surface(const Surface&) = delete;
   Surface& operator=(Surface&& other) noexcept {
@@ -118,7 +119,7 @@ PresentPath choosePresentPath(const DemoOptions& options, const Device& device,
                               GLFWwindow* window) {
   std::string why;
   if (options.present == PresentPath::Shm && !ShmPresenter::available(window, &why))
-    throw host::UsageError("--present: shm is not possible here (" + why + ")");
+    throw InvalidArgument("--present", "shm is not possible here (" + why + ")");
   if (options.present) return *options.present;
   if (options.vsync || device.properties().deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU)
     return PresentPath::Swapchain;
@@ -245,18 +246,18 @@ class Demo {
     poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     poolInfo.queueFamilyIndex = device_.handles().queueFamily;
     VkCommandPool pool = VK_NULL_HANDLE;
-    HOST_CHECK(vkCreateCommandPool(device, &poolInfo, nullptr, &pool));
+    VK_CHECK(vkCreateCommandPool(device, &poolInfo, nullptr, &pool));
     pool_ = host::OwnedCommandPool(device, pool);
     for (FrameSlot& slot : slots_) {
       VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
       alloc.commandPool = pool_;
       alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
       alloc.commandBufferCount = 1;
-      HOST_CHECK(vkAllocateCommandBuffers(device, &alloc, &slot.commands));
+      VK_CHECK(vkAllocateCommandBuffers(device, &alloc, &slot.commands));
       VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
       fenceInfo.flags = VK_FENCE_CREATE_SIGNALED_BIT;
       VkFence fence = VK_NULL_HANDLE;
-      HOST_CHECK(vkCreateFence(device, &fenceInfo, nullptr, &fence));
+      VK_CHECK(vkCreateFence(device, &fenceInfo, nullptr, &fence));
       slot.inFlight = host::OwnedFence(device, fence);
     }
   }
@@ -309,11 +310,8 @@ class Demo {
       return 1;
     }
     if (paused_) return 0;
-    owedSeconds_ += std::min(frameSeconds, 0.1) * speed_;
-    const double h = double(scene_.h());
-    const double steps = std::floor(owedSeconds_ / h);
-    owedSeconds_ -= steps * h;
-    return static_cast<uint32_t>(std::min(steps, double(kStepsPerFrameMax)));
+    const uint64_t steps = owed_.take(std::min(frameSeconds, 0.1) * speed_ / double(scene_.h()));
+    return static_cast<uint32_t>(std::min<uint64_t>(steps, kStepsPerFrameMax));
   }
 
   void handleInput() {
@@ -397,7 +395,7 @@ class Demo {
     }
 
     // Closed at start: the panel is drawn every frame, and on a CPU device a short panel
-    // costs a fraction of a long one (docs/benchmarks.md).
+    // costs a fraction of a long one (docs/benchmarks-history.md).
     if (ImGui::CollapsingHeader("scene")) {
       switch (panel_.draw(scene_)) {
         case ScenePanel::Change::Live:
@@ -454,7 +452,7 @@ class Demo {
       simulatedSeconds_ = 0.0;
       if (reset_) ++effects_.resets;
       restart_ = reset_ = false;
-      owedSeconds_ = 0.0;
+      owed_.reset();
     }
     if (screenshot_) {
       screenshot_ = false;
@@ -515,13 +513,14 @@ class Demo {
     simulation_->update(index, steps);
     simulatedSeconds_ += double(steps) * double(scene_.h());
 
-    HOST_CHECK(vkResetFences(device, 1, &fence));
+    VK_CHECK(vkResetFences(device, 1, &fence));
     VkCommandBuffer commands = slot.commands;
-    HOST_CHECK(vkResetCommandBuffer(commands, 0));
+    VK_CHECK(vkResetCommandBuffer(commands, 0));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    HOST_CHECK(vkBeginCommandBuffer(commands, &begin));
-    // Timed about ten times a second (each timed frame costs lavapipe about 1 ms), and the
+    VK_CHECK(vkBeginCommandBuffer(commands, &begin));
+    // Timed about ten times a second (a timed frame costs a CPU device a pass over every tile;
+    // docs/benchmarks-history.md), and the
     // last frame of a run of --frames N, so that its summary has GPU times however fast it ran.
     const double now = glfwGetTime();
     const bool timed = now - lastTimed_ >= 0.1 || now < lastTimed_ || lastOfRun;
@@ -537,7 +536,7 @@ class Demo {
     renderer_.record(commands, index, *simulation_, target, camera_, overlay);
     presenter_->recordAfterFrame(commands, index);
     if (timed) timer_.recordEnd(commands, index);
-    HOST_CHECK(vkEndCommandBuffer(commands));
+    VK_CHECK(vkEndCommandBuffer(commands));
 
     if (!presenter_->submitAndPresent(commands, fence, index)) resized_ = true;
     ++frame_;
@@ -567,7 +566,7 @@ class Demo {
   DemoEffects effects_;
   bool showUi_ = true;
   float speed_ = 1.0f;
-  double owedSeconds_ = 0.0;
+  common::StepAccumulator owed_;
   double simulatedSeconds_ = 0.0;  // the steps' sizes summed (h may change in the panel)
   double fps_ = 0.0, simulateMs_ = 0.0, drawMs_ = 0.0;
   // glfwGetTime() of the last timed frame; the first frames are not timed (they draw the

@@ -25,7 +25,7 @@ FrameTimer::FrameTimer(const Device& device, uint32_t slots)
   queryInfo.queryType = VK_QUERY_TYPE_TIMESTAMP;
   queryInfo.queryCount = kStamps * slots;
   VkQueryPool pool = VK_NULL_HANDLE;
-  HOST_CHECK(vkCreateQueryPool(handle, &queryInfo, nullptr, &pool));
+  VK_CHECK(vkCreateQueryPool(handle, &queryInfo, nullptr, &pool));
   queries_ = host::OwnedQueryPool(handle, pool);
 }
 

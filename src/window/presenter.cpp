@@ -7,7 +7,7 @@ namespace lava::window {
 PresentPath parsePresentPath(const std::string& source, const std::string& text) {
   if (text == "swapchain") return PresentPath::Swapchain;
   if (text == "shm") return PresentPath::Shm;
-  throw host::UsageError(source + ": expected swapchain or shm, got '" + text + "'");
+  throw InvalidArgument(source, "expected swapchain or shm, got '" + text + "'");
 }
 
 }  // namespace lava::window

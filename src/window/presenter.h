@@ -15,7 +15,7 @@ namespace lava::window {
 // How `lava demo` presents (--present).
 enum class PresentPath { Swapchain, Shm };
 
-// Parses "swapchain" or "shm" for the flag named by `source` (host::UsageError otherwise).
+// Parses "swapchain" or "shm" for the flag named by `source` (lava::InvalidArgument otherwise).
 PresentPath parsePresentPath(const std::string& source, const std::string& text);
 
 class Presenter {

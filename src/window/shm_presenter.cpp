@@ -183,7 +183,7 @@ ShmPresenter::~ShmPresenter() {
 }
 
 bool ShmPresenter::resize(VkExtent2D framebufferSize) {
-  HOST_CHECK(vkDeviceWaitIdle(device_.handles().device));
+  VK_CHECK(vkDeviceWaitIdle(device_.handles().device));
   pending_ = false;  // drawn for the old size: dropped
   for (Slot& slot : slots_) {
     slot.target.reset();  // its color image may live in the segment's memory
@@ -240,7 +240,7 @@ bool ShmPresenter::submitAndPresent(VkCommandBuffer commands, VkFence done, uint
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &commands;
-  HOST_CHECK(vkQueueSubmit(device_.handles().queue, 1, &submit, done));
+  VK_CHECK(vkQueueSubmit(device_.handles().queue, 1, &submit, done));
   slots_[slot].drawn = true;
   flush();  // the previous frame, while the device works on this one
   pending_ = true;

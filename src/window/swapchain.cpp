@@ -8,7 +8,7 @@ namespace {
 host::OwnedSemaphore createSemaphore(VkDevice device) {
   VkSemaphoreCreateInfo info{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
   VkSemaphore semaphore = VK_NULL_HANDLE;
-  HOST_CHECK(vkCreateSemaphore(device, &info, nullptr, &semaphore));
+  VK_CHECK(vkCreateSemaphore(device, &info, nullptr, &semaphore));
   return host::OwnedSemaphore(device, semaphore);
 }
 
@@ -18,9 +18,9 @@ std::optional<VkSurfaceFormatKHR> Swapchain::chooseFormat(const Device& device,
                                                           VkSurfaceKHR surface) {
   VkPhysicalDevice physical = device.handles().physicalDevice;
   uint32_t count = 0;
-  HOST_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(physical, surface, &count, nullptr));
+  VK_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(physical, surface, &count, nullptr));
   std::vector<VkSurfaceFormatKHR> formats(count);
-  HOST_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(physical, surface, &count, formats.data()));
+  VK_CHECK(vkGetPhysicalDeviceSurfaceFormatsKHR(physical, surface, &count, formats.data()));
   if (formats.empty()) return std::nullopt;
   // UNORM like the offscreen target, so window and PNG frames look the same.
   for (const VkSurfaceFormatKHR& f : formats)
@@ -37,14 +37,14 @@ Swapchain::Swapchain(const Device& device, VkSurfaceKHR surface, VkSurfaceFormat
   for (uint32_t i = 0; i < slots; ++i)
     imageAvailable_.push_back(createSemaphore(device.handles().device));
   VkBool32 supported = VK_FALSE;
-  HOST_CHECK(vkGetPhysicalDeviceSurfaceSupportKHR(physical, device.handles().queueFamily, surface,
+  VK_CHECK(vkGetPhysicalDeviceSurfaceSupportKHR(physical, device.handles().queueFamily, surface,
                                                   &supported));
   if (!supported) throw ResourceError("the chosen device cannot present to this window");
   if (!vsync) {
     uint32_t count = 0;
-    HOST_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(physical, surface, &count, nullptr));
+    VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(physical, surface, &count, nullptr));
     std::vector<VkPresentModeKHR> modes(count);
-    HOST_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(physical, surface, &count, modes.data()));
+    VK_CHECK(vkGetPhysicalDeviceSurfacePresentModesKHR(physical, surface, &count, modes.data()));
     for (VkPresentModeKHR wanted : {VK_PRESENT_MODE_MAILBOX_KHR, VK_PRESENT_MODE_IMMEDIATE_KHR})
       if (std::find(modes.begin(), modes.end(), wanted) != modes.end()) {
         presentMode_ = wanted;
@@ -78,9 +78,9 @@ void Swapchain::destroyViews() {
 
 bool Swapchain::resize(VkExtent2D framebufferSize) {
   VkDevice device = device_.handles().device;
-  HOST_CHECK(vkDeviceWaitIdle(device));
+  VK_CHECK(vkDeviceWaitIdle(device));
   VkSurfaceCapabilitiesKHR caps;
-  HOST_CHECK(
+  VK_CHECK(
       vkGetPhysicalDeviceSurfaceCapabilitiesKHR(device_.handles().physicalDevice, surface_, &caps));
   VkExtent2D extent = caps.currentExtent;
   if (extent.width == UINT32_MAX) {
@@ -111,16 +111,16 @@ bool Swapchain::resize(VkExtent2D framebufferSize) {
   info.clipped = VK_TRUE;
   info.oldSwapchain = swapchain_;
   VkSwapchainKHR created = VK_NULL_HANDLE;
-  HOST_CHECK(vkCreateSwapchainKHR(device, &info, nullptr, &created));
+  VK_CHECK(vkCreateSwapchainKHR(device, &info, nullptr, &created));
   destroyViews();
   if (swapchain_) vkDestroySwapchainKHR(device, swapchain_, nullptr);
   swapchain_ = created;
   extent_ = extent;
 
   uint32_t count = 0;
-  HOST_CHECK(vkGetSwapchainImagesKHR(device, swapchain_, &count, nullptr));
+  VK_CHECK(vkGetSwapchainImagesKHR(device, swapchain_, &count, nullptr));
   images_.resize(count);
-  HOST_CHECK(vkGetSwapchainImagesKHR(device, swapchain_, &count, images_.data()));
+  VK_CHECK(vkGetSwapchainImagesKHR(device, swapchain_, &count, images_.data()));
   depth_ = host::createImage(device_, extent, host::kDepthFormat,
                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
                                  VK_IMAGE_USAGE_SAMPLED_BIT |
@@ -138,7 +138,7 @@ host::FrameTarget Swapchain::acquire(uint32_t slot) {
       vkAcquireNextImageKHR(device_.handles().device, swapchain_, UINT64_MAX, imageAvailable_[slot],
                             VK_NULL_HANDLE, &acquired_);
   if (acquired == VK_ERROR_OUT_OF_DATE_KHR) return {};
-  if (acquired != VK_SUBOPTIMAL_KHR) HOST_CHECK(acquired);
+  if (acquired != VK_SUBOPTIMAL_KHR) VK_CHECK(acquired);
   host::FrameTarget target;
   target.color = images_[acquired_];
   target.colorView = views_[acquired_];
@@ -164,7 +164,7 @@ bool Swapchain::submitAndPresent(VkCommandBuffer commands, VkFence done, uint32_
   submit.pCommandBuffers = &commands;
   submit.signalSemaphoreCount = 1;
   submit.pSignalSemaphores = &signal;
-  HOST_CHECK(vkQueueSubmit(device_.handles().queue, 1, &submit, done));
+  VK_CHECK(vkQueueSubmit(device_.handles().queue, 1, &submit, done));
 
   VkPresentInfoKHR present{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
   present.waitSemaphoreCount = 1;
@@ -174,7 +174,7 @@ bool Swapchain::submitAndPresent(VkCommandBuffer commands, VkFence done, uint32_
   present.pImageIndices = &acquired_;
   const VkResult presented = vkQueuePresentKHR(device_.handles().queue, &present);
   if (presented == VK_ERROR_OUT_OF_DATE_KHR || presented == VK_SUBOPTIMAL_KHR) return false;
-  HOST_CHECK(presented);
+  VK_CHECK(presented);
   return true;
 }
 

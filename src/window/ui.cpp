@@ -9,6 +9,7 @@
 #include <cmath>
 #include <vector>
 
+#include "common/hash.h"
 #include "host/vulkan.h"
 
 namespace lava::window {
@@ -60,7 +61,7 @@ host::OwnedRenderPass createPass(VkDevice device, VkFormat format, bool over) {
   info.dependencyCount = 2;
   info.pDependencies = dependencies;
   VkRenderPass pass = VK_NULL_HANDLE;
-  HOST_CHECK(vkCreateRenderPass(device, &info, nullptr, &pass));
+  VK_CHECK(vkCreateRenderPass(device, &info, nullptr, &pass));
   return host::OwnedRenderPass(device, pass);
 }
 
@@ -74,7 +75,7 @@ host::OwnedFramebuffer createFramebuffer(VkDevice device, VkRenderPass pass, VkI
   info.height = extent.height;
   info.layers = 1;
   VkFramebuffer framebuffer = VK_NULL_HANDLE;
-  HOST_CHECK(vkCreateFramebuffer(device, &info, nullptr, &framebuffer));
+  VK_CHECK(vkCreateFramebuffer(device, &info, nullptr, &framebuffer));
   return host::OwnedFramebuffer(device, framebuffer);
 }
 
@@ -96,11 +97,8 @@ void renderDrawData(VkCommandBuffer commands, VkRenderPass pass, bool clears,
 
 // What ImGui drew, as one number: every vertex, index and command of its draw data.
 uint64_t drawKey(const ImDrawData& data) {
-  uint64_t h = 1469598103934665603ull;  // FNV-1a, 64 bits
-  const auto add = [&h](const void* bytes, size_t n) {
-    const auto* b = static_cast<const unsigned char*>(bytes);
-    for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ull;
-  };
+  uint64_t h = common::kFnvOffset;
+  const auto add = [&h](const void* bytes, size_t n) { h = common::fnv1a(h, bytes, n); };
   add(&data.DisplayPos, sizeof(data.DisplayPos));
   add(&data.DisplaySize, sizeof(data.DisplaySize));
   add(&data.FramebufferScale, sizeof(data.FramebufferScale));
@@ -171,7 +169,7 @@ Ui::Ui(Device& device, GLFWwindow* window, VkFormat colorFormat, uint32_t imageC
   poolInfo.poolSizeCount = 1;
   poolInfo.pPoolSizes = &size;
   VkDescriptorPool pool = VK_NULL_HANDLE;
-  HOST_CHECK(vkCreateDescriptorPool(device_, &poolInfo, nullptr, &pool));
+  VK_CHECK(vkCreateDescriptorPool(device_, &poolInfo, nullptr, &pool));
   pool_ = host::OwnedDescriptorPool(device_, pool);
   overPass_ = createPass(device_, colorFormat, true);
   panelPass_ = createPass(device_, colorFormat, false);
@@ -198,7 +196,7 @@ Ui::Ui(Device& device, GLFWwindow* window, VkFormat colorFormat, uint32_t imageC
   info.MinImageCount = 2;
   info.ImageCount = std::max(imageCount, 2u);
   info.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
-  info.CheckVkResultFn = [](VkResult result) { HOST_CHECK(result); };
+  info.CheckVkResultFn = [](VkResult result) { VK_CHECK(result); };
   ImGui_ImplVulkan_Init(&info, overPass_);
   const host::Submitter submitter(device);
   submitter.submitNow(

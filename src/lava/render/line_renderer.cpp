@@ -19,7 +19,7 @@
 #include "shared.h"
 #include "style.h"
 #include "vulkan/buffer.h"
-#include "vulkan/check.h"
+#include "common/check.h"
 #include "vulkan/commands.h"
 #include "vulkan/pipeline.h"
 #include "vulkan/shaders.h"
@@ -262,8 +262,8 @@ void LineRenderer::setExtent(VkExtent2D extent) {
                             detail::groupCount(extent.height, gpu::kSplatBlockHeight) *
                             gpu::kSplatBlockWidth * gpu::kSplatBlockHeight;
   // The draws read the sums through a texel view where one holds them (on llvmpipe a
-  // gather, where a storage-buffer load is a loop over the lanes: 262,144 particles ran
-  // ~1.09x faster so); 720p needs 921,600 texels, more than the spec's minimum of 65,536.
+  // gather, where a storage-buffer load is a loop over the lanes; docs/benchmarks-history.md,
+  // "Texel views"); 720p needs 921,600 texels, more than the spec's minimum of 65,536.
   const bool sumTexels = sums <= m.c.limits.maxTexelBufferElements;
   // The glow's cells the same (the minimum holds 4K's 32,400 cells, not 8K's 129,600).
   const bool cellTexels = cells <= m.c.limits.maxTexelBufferElements;

@@ -2,9 +2,7 @@
 // members written and read here, with nothing but the C++ library.
 #include "lava/checkpoint.h"
 
-#include <fcntl.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include <array>
 #include <cctype>
@@ -18,6 +16,9 @@
 #include <memory>
 #include <sstream>
 
+#include "common/files.h"
+#include "common/hash.h"
+#include "common/npy.h"
 #include "lava/error.h"
 
 namespace lava {
@@ -40,14 +41,6 @@ uint32_t crc32(const std::string& data) {
   return c ^ 0xFFFFFFFFu;
 }
 
-uint64_t fnv1a(uint64_t hash, const std::string& data) {
-  for (unsigned char b : data) {
-    hash ^= b;
-    hash *= 1099511628211ull;
-  }
-  return hash;
-}
-constexpr uint64_t kFnvOffset = 14695981039346656037ull;
 
 template <typename T>
 void put(std::string& out, T value) {  // little-endian, as every field of both formats
@@ -60,16 +53,6 @@ std::string bytesOf(const T* data, size_t count) {
 }
 
 // -- .npy ---------------------------------------------------------------------------------
-
-std::string npyHeader(const std::string& descr, const std::string& shape) {
-  std::string header = "{'descr': " + descr + ", 'fortran_order': False, 'shape': " + shape + ", }";
-  const size_t preamble = 10;  // magic (6) + version (2) + header length (2)
-  header.append(63 - (preamble + header.size()) % 64, ' ');
-  header.push_back('\n');
-  std::string out("\x93NUMPY\x01\x00", 8);
-  put<uint16_t>(out, static_cast<uint16_t>(header.size()));
-  return out + header;
-}
 
 std::string shapeOf(uint64_t n) {
   return "(" + std::to_string(n) + ",)";
@@ -88,16 +71,6 @@ std::string clockData(const State& state) {
     put<uint64_t>(out, bits);
     put<uint64_t>(out, c.serial);
     put<uint32_t>(out, c.head);
-  }
-  return out;
-}
-
-std::string stateColumns(const State& state) {
-  std::string out;
-  out.reserve(state.particles.size() * 7 * sizeof(float));
-  for (const Particle& p : state.particles) {
-    const float row[7] = {p.px, p.py, p.pz, p.vx, p.vy, p.vz, p.age};
-    out.append(reinterpret_cast<const char*>(row), sizeof(row));
   }
   return out;
 }
@@ -325,48 +298,31 @@ std::string checkpointBytes(const Scene& scene, const State& state) {
   put<uint64_t>(step, state.step);
   const std::string clock = clockData(state);
   const std::string particles = bytesOf(state.particles.data(), state.particles.size());
-  uint64_t checksum = kFnvOffset;
+  uint64_t checksum = common::kFnvOffset;
   for (const std::string* part :
        std::initializer_list<const std::string*>{&format, &sceneText, &step, &clock, &particles})
-    checksum = fnv1a(checksum, *part);
+    checksum = common::fnv1a(checksum, part->data(), part->size());
   const uint64_t hash = stateHash(state.particles);
   const uint64_t slots = state.particles.size();
   std::vector<Member> members;
-  members.push_back({"format.npy", npyHeader("'<u4'", "(1,)") + format});
-  members.push_back({"scene.npy", npyHeader("'|u1'", shapeOf(sceneText.size())) + sceneText});
-  members.push_back({"step.npy", npyHeader("'<u8'", "()") + step});
-  members.push_back({"clock.npy", npyHeader(kClockDescr, shapeOf(state.clocks.size())) + clock});
-  members.push_back({"particles.npy", npyHeader("'<f4'", shapeOf(slots, 8)) + particles});
-  members.push_back({"state.npy", npyHeader("'<f4'", shapeOf(slots, 7)) + stateColumns(state)});
-  members.push_back({"hash.npy", npyHeader("'<u8'", "(1,)") + bytesOf(&hash, 1)});
-  members.push_back({"checksum.npy", npyHeader("'<u8'", "(1,)") + bytesOf(&checksum, 1)});
+  members.push_back({"format.npy", common::npyHeader("'<u4'", "(1,)") + format});
+  members.push_back({"scene.npy", common::npyHeader("'|u1'", shapeOf(sceneText.size())) + sceneText});
+  members.push_back({"step.npy", common::npyHeader("'<u8'", "()") + step});
+  members.push_back({"clock.npy", common::npyHeader(kClockDescr, shapeOf(state.clocks.size())) + clock});
+  members.push_back({"particles.npy", common::npyHeader("'<f4'", shapeOf(slots, 8)) + particles});
+  members.push_back({"state.npy", common::npyHeader("'<f4'", shapeOf(slots, 7)) + common::stateTable(state.particles)});
+  members.push_back({"hash.npy", common::npyHeader("'<u8'", "(1,)") + bytesOf(&hash, 1)});
+  members.push_back({"checksum.npy", common::npyHeader("'<u8'", "(1,)") + bytesOf(&checksum, 1)});
   return zip(members);
 }
 
 void writeCheckpoint(const std::string& path, const Scene& scene, const State& state) {
   const std::string bytes = checkpointBytes(scene, state);
-  const size_t slash = path.find_last_of('/');
-  std::string temp = (slash == std::string::npos ? std::string() : path.substr(0, slash + 1)) +
-                     ".lava-checkpoint-XXXXXX";
-  const int fd = mkstemp(temp.data());
-  if (fd < 0)
-    throw ResourceError("checkpoint: cannot create a file beside '" + path +
-                        "': " + std::strerror(errno));
-  size_t written = 0;
-  while (written < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
-    if (n <= 0) break;
-    written += size_t(n);
+  try {
+    common::writeFileAtomically(path, bytes);
+  } catch (const ResourceError& e) {
+    throw ResourceError(std::string("checkpoint: ") + e.what());
   }
-  const bool ok = written == bytes.size() && fsync(fd) == 0;
-  const int error = errno;
-  ::close(fd);
-  if (!ok || std::rename(temp.c_str(), path.c_str()) != 0) {
-    const int cause = ok ? errno : error;
-    std::remove(temp.c_str());
-    throw ResourceError("checkpoint: cannot write '" + path + "': " + std::strerror(cause));
-  }
-  chmod(path.c_str(), 0644);
 }
 
 Snapshot parseCheckpoint(const std::string& bytes, const std::string& name) {
@@ -391,10 +347,10 @@ Snapshot parseCheckpoint(const std::string& bytes, const std::string& name) {
   if (step.size() != 8 || clock.size() != emitters * 20 || particles.size() != slots * 32 ||
       hash.size() != 8 || checksum.size() != 8)
     r.fail("truncated (an array is shorter than its shape)");
-  uint64_t sum = kFnvOffset, expected = 0;
+  uint64_t sum = common::kFnvOffset, expected = 0;
   for (const std::string* part :
        std::initializer_list<const std::string*>{&format, &sceneText, &step, &clock, &particles})
-    sum = fnv1a(sum, *part);
+    sum = common::fnv1a(sum, part->data(), part->size());
   std::memcpy(&expected, checksum.data(), 8);
   if (sum != expected) r.fail("checksum mismatch (the file is corrupt or was edited)");
 

@@ -13,7 +13,7 @@
 #include "scene_params.h"
 #include "shared.h"
 #include "vulkan/buffer.h"
-#include "vulkan/check.h"
+#include "common/check.h"
 #include "vulkan/commands.h"
 #include "vulkan/pipeline.h"
 #include "vulkan/shaders.h"
@@ -100,7 +100,8 @@ std::vector<GroupRange> birthGroups(const ScheduleSlot& slot, const ParticleChun
   }
   std::sort(ranges.begin(), ranges.end(),
             [](const GroupRange& a, const GroupRange& b) { return a.begin < b.begin; });
-  constexpr uint32_t kMinFastGroups = 32;  // lavapipe: ~3 us saved per workgroup
+  // A run of workgroups without births smaller than this is not worth a dispatch of its own.
+  constexpr uint32_t kMinFastGroups = 32;
   constexpr size_t kMaxRanges = 8;
   std::vector<GroupRange> merged;
   for (const GroupRange& r : ranges) {

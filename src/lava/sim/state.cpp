@@ -1,6 +1,7 @@
 // States: the initial one, the check that a state fits a scene, and its hash.
 #include <cstring>
 
+#include "common/hash.h"
 #include "lava/error.h"
 #include "lava/state.h"
 
@@ -31,15 +32,8 @@ void checkState(const Scene& scene, const State& state) {
 }
 
 uint64_t stateHash(const std::vector<Particle>& particles) {
-  // FNV-1a's prime with an offset basis one digit short of the standard 14695981039346656037:
-  // a slip in Lava's first version, kept so that every hash recorded since stays valid.
-  uint64_t hash = 1469598103934665603ull;
-  const auto* bytes = reinterpret_cast<const unsigned char*>(particles.data());
-  for (size_t i = 0; i < particles.size() * sizeof(Particle); ++i) {
-    hash ^= bytes[i];
-    hash *= 1099511628211ull;
-  }
-  return hash;
+  return common::fnv1a(common::kStateHashOffset, particles.data(),
+                       particles.size() * sizeof(Particle));
 }
 
 }  // namespace lava

@@ -1,6 +1,7 @@
 #include "buffer.h"
 
-#include "check.h"
+#include "common/check.h"
+#include "common/images.h"
 
 namespace lava::detail {
 
@@ -63,16 +64,7 @@ void Buffer::invalidate() const {
 
 Image createImage(const DeviceContext& c, VkExtent2D extent, VkFormat format,
                   VkImageUsageFlags usage, VkImageAspectFlags aspect) {
-  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-  info.imageType = VK_IMAGE_TYPE_2D;
-  info.format = format;
-  info.extent = {extent.width, extent.height, 1};
-  info.mipLevels = 1;
-  info.arrayLayers = 1;
-  info.samples = VK_SAMPLE_COUNT_1_BIT;
-  info.tiling = VK_IMAGE_TILING_OPTIMAL;
-  info.usage = usage;
-  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  const VkImageCreateInfo info = common::imageInfo2D(extent, format, usage);
   Image out;
   out.extent = extent;
   out.format = format;

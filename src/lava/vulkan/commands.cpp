@@ -3,7 +3,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "check.h"
+#include "common/barriers.h"
+#include "common/check.h"
 
 namespace lava::detail {
 
@@ -142,24 +143,16 @@ VkDescriptorSet DescriptorArena::take(VkDescriptorSetLayout layout) {
 void memoryBarrier(const DeviceContext& c, VkCommandBuffer commands, VkPipelineStageFlags srcStage,
                    VkAccessFlags srcAccess, VkPipelineStageFlags dstStage,
                    VkAccessFlags dstAccess) {
-  VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, srcAccess, dstAccess};
-  c.vk.CmdPipelineBarrier(commands, srcStage, dstStage, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+  common::memoryBarrier(c.vk.CmdPipelineBarrier, commands, srcStage, srcAccess, dstStage,
+                        dstAccess);
 }
 
 void imageBarrier(const DeviceContext& c, VkCommandBuffer commands, VkImage image,
                   VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,
                   VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
                   VkPipelineStageFlags dstStage, VkAccessFlags dstAccess) {
-  VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-  barrier.srcAccessMask = srcAccess;
-  barrier.dstAccessMask = dstAccess;
-  barrier.oldLayout = from;
-  barrier.newLayout = to;
-  barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  barrier.image = image;
-  barrier.subresourceRange = {aspect, 0, 1, 0, 1};
-  c.vk.CmdPipelineBarrier(commands, srcStage, dstStage, 0, 0, nullptr, 0, nullptr, 1, &barrier);
+  common::imageBarrier(c.vk.CmdPipelineBarrier, commands, image, aspect, from, to, srcStage,
+                       srcAccess, dstStage, dstAccess);
 }
 
 }  // namespace lava::detail

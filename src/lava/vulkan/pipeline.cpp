@@ -1,6 +1,6 @@
 #include "pipeline.h"
 
-#include "check.h"
+#include "common/check.h"
 
 namespace lava::detail {
 namespace {

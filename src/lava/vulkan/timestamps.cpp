@@ -2,7 +2,7 @@
 
 #include <vector>
 
-#include "check.h"
+#include "common/check.h"
 
 namespace lava::detail {
 

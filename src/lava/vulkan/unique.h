@@ -1,18 +1,17 @@
-// Move-only owner of one device-level Vulkan handle, destroyed through the device's
-// function table with the host's allocation callbacks.
+// The library's owned handles: common::Unique destroyed through the device's function table
+// with the host's allocation callbacks.
 #pragma once
 #include <vulkan/vulkan.h>
 
 #include <utility>
 
+#include "common/unique.h"
 #include "device_context.h"
 
 namespace lava::detail {
 
-static_assert(sizeof(void*) == 8, "handle types must be distinct (64-bit Vulkan)");
-
-template <typename T>
-using DestroyFn = void(VKAPI_PTR*)(VkDevice, T, const VkAllocationCallbacks*);
+using common::DestroyFn;
+using common::Unique;
 
 inline DestroyFn<VkBuffer> destroyFn(const Vk& vk, VkBuffer) {
   return vk.DestroyBuffer;
@@ -56,45 +55,6 @@ inline DestroyFn<VkFence> destroyFn(const Vk& vk, VkFence) {
 inline DestroyFn<VkQueryPool> destroyFn(const Vk& vk, VkQueryPool) {
   return vk.DestroyQueryPool;
 }
-
-template <typename T>
-class Unique {
- public:
-  Unique() = default;
-  Unique(const DeviceContext& context, T handle)
-      : device_(context.handles.device),
-        allocator_(context.handles.allocator),
-        destroy_(destroyFn(context.vk, T{})),
-        handle_(handle) {}
-  Unique(Unique&& other) noexcept { *this = std::move(other); }
-  Unique& operator=(Unique&& other) noexcept {
-    if (this != &other) {
-      reset();
-      device_ = other.device_;
-      allocator_ = other.allocator_;
-      destroy_ = other.destroy_;
-      handle_ = std::exchange(other.handle_, T{});
-    }
-    return *this;
-  }
-  Unique(const Unique&) = delete;
-  Unique& operator=(const Unique&) = delete;
-  ~Unique() { reset(); }
-
-  T get() const { return handle_; }
-  operator T() const { return handle_; }  // NOLINT: used like the raw handle
-
-  void reset() {
-    if (handle_ != T{}) destroy_(device_, handle_, allocator_);
-    handle_ = T{};
-  }
-
- private:
-  VkDevice device_ = VK_NULL_HANDLE;
-  const VkAllocationCallbacks* allocator_ = nullptr;
-  DestroyFn<T> destroy_ = nullptr;
-  T handle_{};
-};
 
 using UniqueBuffer = Unique<VkBuffer>;
 using UniqueBufferView = Unique<VkBufferView>;

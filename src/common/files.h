@@ -1,0 +1,18 @@
+// Files that appear whole or not at all, written the same way by the library (checkpoints)
+// and the program (states, frames, reports).
+#pragma once
+#include <string>
+
+namespace lava::common {
+
+// Writes `contents` into a temporary of its own beside `path` (`path`.XXXXXX, so that
+// concurrent writers never share one), gives it the permissions a new file gets under the
+// process's umask, flushes it to the disk (fsync) and renames it into place; interrupted
+// writes (EINTR) are retried. On failure the temporary is removed and a lava::ResourceError
+// says "cannot write '<path>': <reason>". `onTemporary`, when given, is called with the
+// temporary's name as soon as it exists and with nullptr once it no longer does, so that a
+// signal handler can remove it.
+void writeFileAtomically(const std::string& path, const std::string& contents,
+                         void (*onTemporary)(const char* temporary) = nullptr);
+
+}  // namespace lava::common

@@ -1,0 +1,234 @@
+// The `lava` program's commands as users run them: scene files and flags, the outputs each
+// command promises, checkpoints resumed, help and info.
+#include "cli_test.h"
+
+namespace {
+using namespace cli;
+
+TEST(SceneFile, SetsValuesAndTheCommandLineWins) {
+  const std::string scene = writeScene("ok.toml",
+                                       "particles = 100\nrestitution = 0.9\n"
+                                       "emitter = [0.0, 1.0, 0.0]\nsteps = 20\n");
+  const std::string out = scratch("scene.npy");
+  Result r = lava("simulate --scene " + scene + " --out " + out);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(npyRows(out), 100u);
+  r = lava("simulate --scene " + scene + " --particles 200 --out " + out);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(npyRows(out), 200u);
+}
+
+TEST(SceneFile, OneSceneServesEveryCommand) {
+  // `steps` belongs to simulate/validate/bench, `frames` to render/demo: each command uses
+  // its own keys and passes over the others' (a typo is still an unknown key).
+  const std::string scene = writeScene("shared.toml",
+                                       "particles = 300\nsteps = 20\nframes = 2\n"
+                                       "size = \"64x48\"\n");
+  const std::string out = scratch("shared.npy"), frames = scratch("shared-frames");
+  Result r = lava("simulate --scene " + scene + " --out " + out);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(npyRows(out), 300u);
+  r = lava("render --scene " + scene + " --out " + frames);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("wrote 2 frames (64x48)"), std::string::npos) << r.out;
+}
+
+TEST(SceneFile, FormatTwoRowsAreEmitterZeroThenOne) {
+  const std::string scene =
+      writeScene("two.toml",
+                 "[[emitter]]\nparticles = 30\nrate = 0\n[[emitter]]\nparticles = 20\n"
+                 "rate = 0\nburst = 20\nshape = \"point\"\nposition = [0, 5, 0]\n");
+  const std::string out = scratch("two.csv");
+  const Result r = lava("simulate --steps 1 --scene " + scene + " --out " + out);
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::istringstream rows(readFile(out));
+  std::string line;
+  std::getline(rows, line);  // header
+  int row = 0, unborn = 0, born = 0;
+  while (std::getline(rows, line)) {
+    const bool alive = line.substr(line.rfind(',') + 1) != "-1";
+    (row < 30 ? unborn : born) += row < 30 ? !alive : alive;
+    ++row;
+  }
+  EXPECT_EQ(row, 50);
+  EXPECT_EQ(unborn, 30);  // emitter 0: no births
+  EXPECT_EQ(born, 20);    // emitter 1: its burst
+}
+
+TEST(Simulate, GpuAndCpuBackendsWriteIdenticalFiles) {
+  const std::string gpu = scratch("gpu.npy"), cpu = scratch("cpu.csv"), cpuNpy = scratch("cpu.npy");
+  ASSERT_EQ(lava("simulate --steps 1500 --backend gpu --out " + gpu).status, 0);
+  ASSERT_EQ(lava("simulate --steps 1500 --backend cpu --out " + cpuNpy).status, 0);
+  const Result r = lava("simulate --steps 1500 --backend cpu --out " + cpu);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(readFile(gpu), readFile(cpuNpy));
+  EXPECT_EQ(readFile(gpu).size(), 128u + 5000u * 7u * 4u);
+  const std::string simd = scratch("simd.npy");
+  const Result s = lava("simulate --steps 1500 --backend cpu-simd --threads 2 --out " + simd);
+  ASSERT_EQ(s.status, 0) << s.err;
+  EXPECT_EQ(readFile(simd), readFile(cpuNpy));
+  EXPECT_NE(s.out.find("cpu-simd "), std::string::npos) << s.out;
+  EXPECT_EQ(readFile(cpu).substr(0, 22), "px,py,pz,vx,vy,vz,age\n");
+  EXPECT_NE(r.out.find("1500 steps"), std::string::npos) << r.out;
+}
+
+TEST(Simulate, SixteenMillionParticlesPastTheBindingRange) {
+  const Result r = lava("simulate --particles 16777216 --steps 5");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("16777216 particles"), std::string::npos) << r.out;
+}
+
+TEST(Checkpoint, HalvesResumedGiveTheStraightRunsBytes) {
+  // N steps straight, or N/2 to a checkpoint and N/2 resumed from it: identical files, on
+  // each backend and crossed over; validate starts from it too.
+  const std::string scene = "--scene " + std::string(LAVA_SOURCE_DIR) + "/scenes/volcano.toml";
+  const std::string straight = scratch("straight.npy"), ck = scratch("half.npz");
+  ASSERT_EQ(lava("simulate " + scene + " --steps 1600 --out " + straight).status, 0);
+  for (const char* first : {"gpu", "cpu"})
+    for (const char* second : {"gpu", "cpu"}) {
+      SCOPED_TRACE(std::string(first) + " then " + second);
+      const std::string resumed = scratch("resumed.npy");
+      const Result a = lava("simulate " + scene + " --steps 800 --backend " + first +
+                            " --checkpoint " + ck);
+      ASSERT_EQ(a.status, 0) << a.err;
+      EXPECT_NE(a.out.find("checkpoint at step 800"), std::string::npos) << a.out;
+      const Result b = lava("simulate --resume " + ck + " --steps 800 --backend " + second +
+                            " --out " + resumed);
+      ASSERT_EQ(b.status, 0) << b.err;
+      EXPECT_EQ(readFile(resumed), readFile(straight));
+    }
+  const Result v = lava("validate --resume " + ck + " --steps 300 --every 100");
+  EXPECT_EQ(v.status, 0) << v.err;
+  EXPECT_NE(v.out.find("from step 800"), std::string::npos) << v.out;
+  // Every K steps: the file holds the last multiple.
+  ASSERT_EQ(lava("simulate --steps 1000 --backend cpu --checkpoint " + ck +
+                 " --checkpoint-every 300").status,
+            0);
+  EXPECT_NE(readFile(ck).size(), 0u);
+}
+
+TEST(Render, WritesPngFrames) {
+  const std::string folder = scratch("frames");
+  const Result r =
+      lava("render --frames 3 --fps 10 --size 160x90 --renderer splat --out " + folder);
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* name : {"/frame_00000.png", "/frame_00001.png", "/frame_00002.png"})
+    EXPECT_EQ(readFile(folder + name).substr(0, 8), "\x89PNG\r\n\x1a\n") << name;
+  EXPECT_NE(r.out.find("wrote 3 frames (160x90)"), std::string::npos) << r.out;
+}
+
+TEST(Demo, WithoutADisplayRendersHeadlessAndSaysWhere) {
+  const std::string folder = scratch("demo-frames");
+  const Result r =
+      lava("demo --frames 2 --size 160x90 --out " + folder, "env -u DISPLAY -u WAYLAND_DISPLAY ");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("no display"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(folder), std::string::npos) << r.out;
+  EXPECT_EQ(readFile(folder + "/frame_00001.png").substr(0, 4), "\x89PNG");
+}
+
+TEST(Bench, WritesTheJsonItPromises) {
+  const std::string json = scratch("bench.json");
+  const Result r = lava("bench --sizes 4096,8192 --steps 20 --json " + json);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string text = readFile(json);
+  for (const char* key :
+       {"\"device\"", "\"results\"", "\"backend\": \"gpu\"", "\"backend\": \"cpu\"",
+        "\"backend\": \"cpu-mt\"", "\"backend\": \"cpu-simd\"", "\"backend\": \"cpu-simd-mt\"",
+        "\"particles\": 8192", "\"steps\": 20", "\"updates_per_second\"",
+        "\"bytes_per_update\": 64", "\"roofline_fraction\"", "\"compute_fraction\"",
+        "\"bound\": \"compute\""})
+    EXPECT_NE(text.find(key), std::string::npos) << key << "\n" << text;
+  EXPECT_EQ(std::count(text.begin(), text.end(), '{'), 11) << text;  // 2 sizes x 5 backends
+  EXPECT_NE(r.out.find("x compute"), std::string::npos) << r.out;
+}
+
+TEST(Render, VideoEncodesWithFfmpegOrSaysItIsMissing) {
+  // Both branches in every run: ffmpeg missing from the PATH, and a stand-in ffmpeg that
+  // records what it was given (no shell between: a quote in a path is just a character);
+  // then the real one where it is installed (it is not a dependency).
+  const std::string bin = scratch("fakebin"), calls = scratch("ffmpeg_args.txt");
+  ASSERT_EQ(run("mkdir -p " + bin).status, 0);
+  {
+    std::ofstream fake(bin + "/ffmpeg");
+    fake << "#!/bin/sh\n: > '" << calls << "'\nfor a in \"$@\"; do printf '%s\\n' \"$a\" >> '"
+         << calls << "'; last=\"$a\"; done\nprintf 'mp4' > \"$last\"\n";
+  }
+  ASSERT_EQ(run("chmod +x " + bin + "/ffmpeg").status, 0);
+  const std::string folder = scratch("it's frames"), clip = scratch("it's a clip.mp4");
+  run("rm -rf '" + scratch("it") + "'*");
+  // An earlier run's frames in the folder: only this run's 3 are encoded.
+  ASSERT_EQ(lava("render --frames 6 --size 64x48 --out \"" + folder + "\"").status, 0);
+  Result r = lava("render --frames 3 --size 65x49 --out \"" + folder + "\" --video \"" + clip + "\"",
+                  "env PATH=" + bin + ":/usr/bin:/bin ");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string args = readFile(calls);
+  EXPECT_NE(args.find(folder + "/frame_%05d.png\n"), std::string::npos) << args;
+  EXPECT_NE(args.find("-frames:v\n3\n"), std::string::npos) << args;
+  EXPECT_NE(args.find("pad=ceil(iw/2)*2:ceil(ih/2)*2"), std::string::npos) << args;
+  EXPECT_EQ(readFile(clip), "mp4") << "the clip renamed into place";
+  // No ffmpeg: a usage error naming --video, and no frames rendered for nothing.
+  r = lava("render --frames 4 --size 64x48 --out " + scratch("noffmpeg") + " --video " +
+               scratch("none.mp4"),
+           "env PATH=/nonexistent ");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--video"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("ffmpeg"), std::string::npos) << r.err;
+  EXPECT_NE(access(scratch("noffmpeg").c_str(), F_OK), 0) << "no empty folder left";
+  if (std::system("command -v ffmpeg >/dev/null 2>&1") == 0) {  // the real one, odd size
+    const std::string real = scratch("real.mp4");
+    r = lava("render --frames 3 --size 65x49 --out \"" + folder + "\" --video " + real);
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_GT(readFile(real).size(), 100u);
+  }
+}
+
+TEST(Help, VersionPrintsTheLibrarysVersion) {
+  const Result r = lava("--version");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_EQ(r.out.rfind("lava 0.", 0), 0u) << r.out;
+}
+
+TEST(Info, ListsTheDeviceAndTheLargestParticleCount) {
+  const Result r = lava("info");
+  EXPECT_EQ(r.status, 0) << r.err;
+  // The selected device is one of those listed, by name.
+  const size_t selected = r.out.find("selected device ");
+  ASSERT_NE(selected, std::string::npos) << r.out;
+  const std::string line = r.out.substr(selected, r.out.find('\n', selected) - selected);
+  const std::string name = line.substr(line.find(": ") + 2);
+  EXPECT_NE(r.out.find("] " + name), std::string::npos) << r.out;
+  EXPECT_GT(infoNumber(r.out, "largest particle count"), 0u) << r.out;
+  EXPECT_GT(infoNumber(r.out, "maxImageDimension2D"), 0u) << r.out;
+}
+
+TEST(Help, ExitsZeroAndListsCommands) {
+  // The command list is exactly the commands; each command's help lists the scene keys it
+  // takes (and every command takes --scene), with their defaults as typed, not as floats.
+  const Result r = lava("--help");
+  EXPECT_EQ(r.status, 0);
+  const size_t list = r.out.find("Subcommands:");
+  ASSERT_NE(list, std::string::npos) << r.out;
+  std::istringstream lines(r.out.substr(list));
+  std::string line;
+  std::set<std::string> listed;
+  std::getline(lines, line);
+  while (std::getline(lines, line)) {
+    std::istringstream words(line);
+    std::string first;
+    if (words >> first) listed.insert(first);
+  }
+  EXPECT_EQ(listed, (std::set<std::string>{"demo", "simulate", "validate", "render", "bench",
+                                           "info", "study"}));
+  for (const std::string& command : listed) {
+    const Result h = lava(command + " --help");
+    EXPECT_EQ(h.status, 0) << command;
+    EXPECT_NE(h.out.find("--scene"), std::string::npos) << command;
+    static const std::regex floatDigits(R"(\.[0-9]*0{5,}[1-9])");  // 0.001000000047
+    EXPECT_FALSE(std::regex_search(h.out, floatDigits)) << command << " prints a float's digits";
+  }
+  EXPECT_NE(lava("simulate --help").out.find("--dt NUM"), std::string::npos);
+  EXPECT_NE(lava("simulate --help").out.find("[0.001]"), std::string::npos);
+}
+
+}  // namespace
