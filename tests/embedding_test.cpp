@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "host/frame_renderer.h"
+#include "lava/camera.h"
 #include "host/offscreen.h"
 #include "lava/lava.h"
 #include "vulkan_test.h"
@@ -194,6 +195,254 @@ TEST_P(Embedding, FramesInFlightWithChangingStepCountsMatchTheCpu) {
 
 // Fused steps per dispatch: one (memory-bound), a prime, the default.
 INSTANTIATE_TEST_SUITE_P(StepsPerDispatch, Embedding, ::testing::Values(1u, 7u, 256u));
+
+// Lava's own calls, counted: Lava loads every Vulkan function through the host's
+// getInstanceProcAddr, which here hands out counting wrappers of the calls that submit or
+// wait. The host's own calls go to the loader and are not counted.
+struct LavaCalls {
+  int submits = 0, queueWaits = 0, deviceWaits = 0, fenceWaits = 0;
+  std::vector<std::string> otherSubmitsOrWaits;  // any other such function Lava loaded
+  PFN_vkGetDeviceProcAddr getDeviceProcAddr = nullptr;
+  PFN_vkQueueSubmit queueSubmit = nullptr;
+  PFN_vkQueueWaitIdle queueWaitIdle = nullptr;
+  PFN_vkDeviceWaitIdle deviceWaitIdle = nullptr;
+  PFN_vkWaitForFences waitForFences = nullptr;
+  int total() const { return submits + queueWaits + deviceWaits + fenceWaits; }
+};
+LavaCalls lavaCalls;
+
+VKAPI_ATTR VkResult VKAPI_CALL countedQueueSubmit(VkQueue q, uint32_t n, const VkSubmitInfo* s,
+                                                  VkFence f) {
+  ++lavaCalls.submits;
+  return lavaCalls.queueSubmit(q, n, s, f);
+}
+VKAPI_ATTR VkResult VKAPI_CALL countedQueueWaitIdle(VkQueue q) {
+  ++lavaCalls.queueWaits;
+  return lavaCalls.queueWaitIdle(q);
+}
+VKAPI_ATTR VkResult VKAPI_CALL countedDeviceWaitIdle(VkDevice d) {
+  ++lavaCalls.deviceWaits;
+  return lavaCalls.deviceWaitIdle(d);
+}
+VKAPI_ATTR VkResult VKAPI_CALL countedWaitForFences(VkDevice d, uint32_t n, const VkFence* f,
+                                                    VkBool32 all, uint64_t timeout) {
+  ++lavaCalls.fenceWaits;
+  return lavaCalls.waitForFences(d, n, f, all, timeout);
+}
+
+PFN_vkVoidFunction counted(const char* name, PFN_vkVoidFunction real) {
+  const std::string n = name;
+  if (!real) return real;
+  if (n == "vkQueueSubmit") {
+    lavaCalls.queueSubmit = reinterpret_cast<PFN_vkQueueSubmit>(real);
+    return reinterpret_cast<PFN_vkVoidFunction>(countedQueueSubmit);
+  }
+  if (n == "vkQueueWaitIdle") {
+    lavaCalls.queueWaitIdle = reinterpret_cast<PFN_vkQueueWaitIdle>(real);
+    return reinterpret_cast<PFN_vkVoidFunction>(countedQueueWaitIdle);
+  }
+  if (n == "vkDeviceWaitIdle") {
+    lavaCalls.deviceWaitIdle = reinterpret_cast<PFN_vkDeviceWaitIdle>(real);
+    return reinterpret_cast<PFN_vkVoidFunction>(countedDeviceWaitIdle);
+  }
+  if (n == "vkWaitForFences") {
+    lavaCalls.waitForFences = reinterpret_cast<PFN_vkWaitForFences>(real);
+    return reinterpret_cast<PFN_vkVoidFunction>(countedWaitForFences);
+  }
+  if (n.find("Submit") != std::string::npos || n.find("Wait") != std::string::npos)
+    lavaCalls.otherSubmitsOrWaits.push_back(n);
+  return real;
+}
+
+VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL countedGetDeviceProcAddr(VkDevice device,
+                                                                  const char* name) {
+  return counted(name, lavaCalls.getDeviceProcAddr(device, name));
+}
+
+VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL countedGetInstanceProcAddr(VkInstance instance,
+                                                                    const char* name) {
+  if (std::string(name) == "vkGetDeviceProcAddr") {
+    lavaCalls.getDeviceProcAddr =
+        reinterpret_cast<PFN_vkGetDeviceProcAddr>(vkGetInstanceProcAddr(instance, name));
+    return reinterpret_cast<PFN_vkVoidFunction>(countedGetDeviceProcAddr);
+  }
+  return counted(name, vkGetInstanceProcAddr(instance, name));
+}
+
+uint32_t hostMemoryType(VkPhysicalDevice physical, uint32_t bits, VkMemoryPropertyFlags flags) {
+  VkPhysicalDeviceMemoryProperties memory;
+  vkGetPhysicalDeviceMemoryProperties(physical, &memory);
+  for (uint32_t i = 0; i < memory.memoryTypeCount; ++i)
+    if ((bits & (1u << i)) && (memory.memoryTypes[i].propertyFlags & flags) == flags) return i;
+  ADD_FAILURE() << "no memory type";
+  return 0;
+}
+
+// A host that only records: from Lava's device to its destruction, frames of simulation and
+// drawing (both renderers, the lava look with its glow, a resize) through the host's own
+// command buffers, and Lava never submits or waits. What it recorded is right: the host's
+// own read-back of the particles equals the CPU reference bit for bit (the particles'
+// initial state, too, was recorded, not uploaded).
+TEST(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
+  HostDevice host;
+  lavaCalls = LavaCalls{};
+  DeviceHandles handles = host.handles;
+  handles.getInstanceProcAddr = countedGetInstanceProcAddr;
+  const VkDevice vkDevice = handles.device;
+  const VkExtent2D extents[2] = {{160, 120}, {200, 100}};
+  Scene scene;
+  scene.emitters[0].particles = 4096;
+  scene.emitters[0].rate = 20000.0;
+  constexpr uint32_t kFrames = 24, kSlots = 2, kSteps = 17;
+  std::vector<Particle> readBack;
+  {
+    Device device(handles);
+    GpuSimulationOptions options;
+    options.framesInFlight = kSlots;
+    GpuSimulation gpu(device, scene, options);
+    LineRenderer lines(device, {VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_UNDEFINED}, kSlots);
+    HostFrames frames(vkDevice, kSlots);
+
+    // The host's target (one per size) and a buffer it reads the particles back into.
+    struct Target {
+      VkImage image = VK_NULL_HANDLE;
+      VkDeviceMemory memory = VK_NULL_HANDLE;
+      VkImageView view = VK_NULL_HANDLE;
+    } targets[2];
+    for (int t = 0; t < 2; ++t) {
+      VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+      info.imageType = VK_IMAGE_TYPE_2D;
+      info.format = VK_FORMAT_R8G8B8A8_UNORM;
+      info.extent = {extents[t].width, extents[t].height, 1};
+      info.mipLevels = info.arrayLayers = 1;
+      info.samples = VK_SAMPLE_COUNT_1_BIT;
+      info.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+      ASSERT_EQ(vkCreateImage(vkDevice, &info, nullptr, &targets[t].image), VK_SUCCESS);
+      VkMemoryRequirements needs;
+      vkGetImageMemoryRequirements(vkDevice, targets[t].image, &needs);
+      VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+      alloc.allocationSize = needs.size;
+      alloc.memoryTypeIndex = hostMemoryType(host.handles.physicalDevice, needs.memoryTypeBits, 0);
+      ASSERT_EQ(vkAllocateMemory(vkDevice, &alloc, nullptr, &targets[t].memory), VK_SUCCESS);
+      vkBindImageMemory(vkDevice, targets[t].image, targets[t].memory, 0);
+      VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+      view.image = targets[t].image;
+      view.viewType = VK_IMAGE_VIEW_TYPE_2D;
+      view.format = info.format;
+      view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+      ASSERT_EQ(vkCreateImageView(vkDevice, &view, nullptr, &targets[t].view), VK_SUCCESS);
+    }
+    const VkDeviceSize bytes = scene.particles() * sizeof(Particle);
+    VkBufferCreateInfo bufferInfo{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    bufferInfo.size = bytes;
+    bufferInfo.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    VkBuffer readback = VK_NULL_HANDLE;
+    ASSERT_EQ(vkCreateBuffer(vkDevice, &bufferInfo, nullptr, &readback), VK_SUCCESS);
+    VkMemoryRequirements needs;
+    vkGetBufferMemoryRequirements(vkDevice, readback, &needs);
+    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    alloc.allocationSize = needs.size;
+    alloc.memoryTypeIndex = hostMemoryType(
+        host.handles.physicalDevice, needs.memoryTypeBits,
+        VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+    VkDeviceMemory readbackMemory = VK_NULL_HANDLE;
+    ASSERT_EQ(vkAllocateMemory(vkDevice, &alloc, nullptr, &readbackMemory), VK_SUCCESS);
+    vkBindBufferMemory(vkDevice, readback, readbackMemory, 0);
+
+    OrbitCamera camera;
+    for (uint32_t frame = 0; frame <= kFrames; ++frame) {
+      const uint32_t slot = frame % kSlots;
+      const int t = frame < kFrames / 2 ? 0 : 1;
+      if (frame == kFrames / 2) {  // a resize: the host has waited for the frames before it
+        vkDeviceWaitIdle(vkDevice);
+        lines.setExtent(extents[t]);
+      } else if (frame == 0) {
+        lines.setExtent(extents[t]);
+      }
+      lines.setMode(frame % 3 == 0 ? LineMode::Lines : LineMode::Splat);
+      VkCommandBuffer commands = frames.begin(slot);
+      if (frame == kFrames) {  // the host's read-back of what the frames computed
+        VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr,
+                                VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT};
+        vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &barrier, 0, nullptr, 0,
+                             nullptr);
+        for (const ParticleChunk& chunk : gpu.chunks()) {
+          const VkBufferCopy region{0, chunk.first * sizeof(Particle),
+                                    chunk.count * sizeof(Particle)};
+          vkCmdCopyBuffer(commands, chunk.buffer, readback, 1, &region);
+        }
+        frames.submit(host.handles.queue, slot);
+        break;
+      }
+      gpu.update(slot, kSteps);
+      gpu.recordSimulate(commands, slot);
+      const View view{camera.viewProj(float(extents[t].width) / float(extents[t].height)),
+                      extents[t], camera.eye()};
+      lines.recordPrepare(commands, slot, gpu, view);
+      VkImageMemoryBarrier toColor{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+      toColor.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+      toColor.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+      toColor.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+      toColor.newLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+      toColor.srcQueueFamilyIndex = toColor.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+      toColor.image = targets[t].image;
+      toColor.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+      vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                           VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0, nullptr, 0, nullptr,
+                           1, &toColor);
+      VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+      color.imageView = targets[t].view;
+      color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+      color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+      color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+      VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
+      rendering.renderArea = {{0, 0}, extents[t]};
+      rendering.layerCount = 1;
+      rendering.colorAttachmentCount = 1;
+      rendering.pColorAttachments = &color;
+      vkCmdBeginRendering(commands, &rendering);
+      lines.recordDraw(commands, slot, gpu, view);
+      vkCmdEndRendering(commands);
+      frames.submit(host.handles.queue, slot);
+    }
+    vkDeviceWaitIdle(vkDevice);
+    void* mapped = nullptr;
+    ASSERT_EQ(vkMapMemory(vkDevice, readbackMemory, 0, bytes, 0, &mapped), VK_SUCCESS);
+    readBack.assign(static_cast<const Particle*>(mapped),
+                    static_cast<const Particle*>(mapped) + scene.particles());
+    vkUnmapMemory(vkDevice, readbackMemory);
+    vkDestroyBuffer(vkDevice, readback, nullptr);
+    vkFreeMemory(vkDevice, readbackMemory, nullptr);
+    for (Target& target : targets) {
+      vkDestroyImageView(vkDevice, target.view, nullptr);
+      vkDestroyImage(vkDevice, target.image, nullptr);
+      vkFreeMemory(vkDevice, target.memory, nullptr);
+    }
+  }  // Lava's objects and device destroyed
+  EXPECT_EQ(lavaCalls.submits, 0);
+  EXPECT_EQ(lavaCalls.queueWaits, 0);
+  EXPECT_EQ(lavaCalls.deviceWaits, 0);
+  EXPECT_EQ(lavaCalls.fenceWaits, 0);
+  for (const std::string& name : lavaCalls.otherSubmitsOrWaits)
+    ADD_FAILURE() << "Lava loaded " << name << ", which this test does not count";
+  ASSERT_NE(lavaCalls.queueSubmit, nullptr) << "the counting wrappers were not used";
+
+  CpuSimulation cpu(scene);
+  cpu.advance(uint64_t{kFrames} * kSteps);
+  const Comparison diff = compare(readBack, cpu.state().particles);
+  EXPECT_EQ(diff.equal, diff.particles) << "max ULP " << diff.maxUlp;
+
+  // The counter counts: a blocking helper submits and waits through it.
+  {
+    Device device(handles);
+    GpuSimulation gpu(device, scene);
+    gpu.advance(3);
+  }
+  EXPECT_GT(lavaCalls.submits, 0);
+  EXPECT_GT(lavaCalls.fenceWaits, 0);
+  for (const std::string& m : host.messages) ADD_FAILURE() << "validation: " << m;
+}
 
 using EmbeddingDraw = test::VulkanTest;
 

@@ -49,6 +49,9 @@ struct LookSettings {
 
 // Thread safety: as its Device's (one thread at a time); recordDraw() is const but writes
 // the frame slot's descriptor sets where the device has no push descriptors.
+// Nothing in the class submits or waits: its set-up (an image's first layout, emptied
+// lists) is recorded by the next recordPrepare(). Destroy it once the host's last
+// submission that used it has finished.
 class LAVA_API LineRenderer {
  public:
   LineRenderer(Device& device, const RenderFormats& formats, uint32_t framesInFlight = 2);
@@ -79,7 +82,9 @@ class LAVA_API LineRenderer {
   // FRAGMENT_SHADER reads). `depth` (optional): a view of the scene's depth (the format
   // given at construction) that the splat tests against as the pipeline's depth test
   // does, in VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL, its writes made visible to
-  // COMPUTE_SHADER reads by the host. Records only: no submission or wait.
+  // COMPUTE_SHADER reads by the host. Records only: no submission or wait. The first call
+  // (and the first after setExtent()) also records the renderer's set-up, and the
+  // simulation's recordInit() when still due.
   // It starts slot `frame`'s frame: the host's previous submission that used `frame` must
   // have finished. On a device without VK_KHR_push_descriptor this and recordDraw() write
   // the slot's descriptor sets (allocated from Lava's own pool by the slot's first frames,

@@ -133,9 +133,19 @@ class LAVA_API GpuSimulation final : public Simulation {
   // recordings of the slot, then reused), so a command buffer it recorded into cannot be
   // submitted again once the slot is recorded anew.
   void recordSimulate(VkCommandBuffer commands, uint32_t frame);
+  // The set-up of the particle buffers (every slot unborn: an inline update and copies),
+  // recorded once, when still due: the first recordSimulate(), LineRenderer's first
+  // recordPrepare() and the first blocking call record it themselves; call it to choose
+  // where. After: TRANSFER writes made visible to COMPUTE_SHADER, VERTEX_SHADER,
+  // FRAGMENT_SHADER and TRANSFER access. Records only; const because the particles it
+  // writes are the state the simulation already reports.
+  void recordInit(VkCommandBuffer commands) const;
 
   // Blocking helpers. They submit to the device's queue and wait for that submission;
   // call them when no command buffer with this simulation's work is pending submission.
+  // Nothing else in the class submits or waits: the constructor and the destructor only
+  // create and destroy (destroy it once the host's last submission that used it has
+  // finished).
   void advance(uint64_t steps) override;
   // advance() that returns the GPU time the steps took (timestamp queries), in seconds.
   double advanceTimed(uint64_t steps);

@@ -74,6 +74,10 @@ struct LineRenderer::Impl {
   // layout) for one or the other.
   bool sumsAsTexels = false;
   bool cellsAsTexels = false;
+  // Set-up recorded by the next recordPrepare(): noDepth's first layout, and the glow's
+  // quad lists emptied (a frame's draw may come before any prepare has listed its quads).
+  bool depthPending = true;
+  bool listsPending = false;
   VkExtent2D extent{0, 0};
   glm::uvec2 grid{0, 0};                                     // glow cells across and down
   glm::uvec2 tiles{0, 0};                                    // resolve tiles across and down
@@ -159,12 +163,6 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_
       detail::createImage(c, {1, 1}, VK_FORMAT_D32_SFLOAT,
                           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
                           VK_IMAGE_ASPECT_DEPTH_BIT);
-  c.submitNow([&](VkCommandBuffer commands) {
-    detail::imageBarrier(c, commands, m.noDepth.image, VK_IMAGE_ASPECT_DEPTH_BIT,
-                         VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL,
-                         VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                         VK_ACCESS_SHADER_READ_BIT);
-  });
 }
 
 LineRenderer::~LineRenderer() = default;
@@ -299,10 +297,7 @@ void LineRenderer::setExtent(VkExtent2D extent) {
                detail::MemoryUse::Device);
     m.glow.push_back(std::move(g));
   }
-  // A frame's draw may come before any prepare has listed its quads: no quads yet.
-  m.c.submitNow([&](VkCommandBuffer commands) {
-    for (const GlowSlot& g : m.glow) m.c.vk.CmdFillBuffer(commands, g.list.get(), 0, 16, 0);
-  });
+  m.listsPending = true;
   m.extent = extent;
 }
 
@@ -413,8 +408,27 @@ void LineRenderer::Impl::recordGlowLight(VkCommandBuffer commands, uint32_t fram
 void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
                                  const GpuSimulation& simulation, const View& view,
                                  VkImageView depth) {
-  const Impl& m = *impl_;
+  Impl& m = *impl_;
   checkFrame(frame, m.framesInFlight);
+  simulation.recordInit(commands);
+  if (m.depthPending) {
+    detail::imageBarrier(m.c, commands, m.noDepth.image, VK_IMAGE_ASPECT_DEPTH_BIT,
+                         VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+                         VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         VK_ACCESS_SHADER_READ_BIT);
+    m.depthPending = false;
+  }
+  if (m.listsPending) {
+    for (const GlowSlot& g : m.glow) m.c.vk.CmdFillBuffer(commands, g.list.get(), 0, 16, 0);
+    // RAW: the glow's draw reads the lists as indirect arguments; WAW: the glow's passes
+    // count into them.
+    detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                          VK_ACCESS_TRANSFER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                          VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT |
+                              VK_ACCESS_SHADER_WRITE_BIT);
+    m.listsPending = false;
+  }
   const bool splat = m.mode == LineMode::Splat;
   const bool glow = m.style == LookStyle::Lava && m.settings.bloom > 0.0f;
   if ((splat || glow) &&

@@ -148,6 +148,7 @@ struct GpuSimulation::Impl {
   std::map<detail::Constants, detail::UniquePipeline> pipelines;
   std::vector<EmitterClock> clocks;
   uint64_t step = 0;
+  bool initPending = true;  // the particles still hold whatever the allocation held
 
   Impl(detail::DeviceContext& context, const GpuSimulationOptions& o) : c(context), options(o) {}
 
@@ -160,7 +161,42 @@ struct GpuSimulation::Impl {
   void record(const Scene& scene, VkCommandBuffer commands, uint32_t slot);
   void runBlocking(const Scene& scene, uint64_t steps, const detail::TimestampPair* timer,
                    double* seconds);
+  // Records the initial state's writes when they are still due (see recordInit()).
+  void recordInit(VkCommandBuffer commands);
 };
+
+void GpuSimulation::Impl::recordInit(VkCommandBuffer commands) {
+  if (!initPending) return;
+  // Every slot unborn: one block of unborn particles recorded into the command buffer
+  // itself (vkCmdUpdateBuffer's largest), then copied over every chunk; no staging memory
+  // that would have to outlive the host's submission.
+  constexpr VkDeviceSize kBlock = 65536;
+  const std::vector<Particle> unborn(kBlock / kParticleBytes,
+                                     Particle{0.0f, 0.0f, 0.0f, -1.0f, 0.0f, 0.0f, 0.0f, 0.0f});
+  const ParticleChunk& source = chunks.front();
+  const VkDeviceSize block = std::min<VkDeviceSize>(kBlock, source.count * kParticleBytes);
+  c.vk.CmdUpdateBuffer(commands, source.buffer, 0, block, unborn.data());
+  // RAW: the copies read the block just written.
+  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+  std::vector<VkBufferCopy> regions;
+  for (const ParticleChunk& chunk : chunks) {
+    regions.clear();
+    const VkDeviceSize bytes = chunk.count * kParticleBytes;
+    for (VkDeviceSize at = chunk.buffer == source.buffer ? block : 0; at < bytes; at += block)
+      regions.push_back({0, at, std::min(block, bytes - at)});
+    if (!regions.empty())
+      c.vk.CmdCopyBuffer(commands, source.buffer, chunk.buffer, uint32_t(regions.size()),
+                         regions.data());
+  }
+  // RAW: steps, draws and read-backs read the particles written here.
+  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+                            VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                            VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+  initPending = false;
+}
 
 GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
                              const GpuSimulationOptions& options)
@@ -233,7 +269,11 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
   m.pipelineLayout = detail::createPipelineLayout(c, m.setLayout, VK_SHADER_STAGE_COMPUTE_BIT,
                                                   sizeof(gpu::StepParams));
   m.pipelinesFor(scene, true);
-  setState(initialState(scene));
+  // The initial state: the clocks here; the particles' writes are recorded by the first
+  // recording or blocking call (recordInit()).
+  const State initial = initialState(scene);
+  m.clocks = initial.clocks;
+  m.step = initial.step;
 }
 
 GpuSimulation::~GpuSimulation() = default;
@@ -411,7 +451,12 @@ void GpuSimulation::recordSimulate(VkCommandBuffer commands, uint32_t frame) {
     throw InvalidArgument("frame", "expected a frame slot in [0, " +
                                        std::to_string(impl_->options.framesInFlight - 1) +
                                        "], got " + std::to_string(frame));
+  impl_->recordInit(commands);
   impl_->record(scene_, commands, frame);
+}
+
+void GpuSimulation::recordInit(VkCommandBuffer commands) const {
+  impl_->recordInit(commands);
 }
 
 void GpuSimulation::Impl::runBlocking(const Scene& scene, uint64_t steps,
@@ -420,6 +465,7 @@ void GpuSimulation::Impl::runBlocking(const Scene& scene, uint64_t steps,
     const uint32_t batch = static_cast<uint32_t>(std::min<uint64_t>(steps, kBlockingSteps));
     plan(scene, blockingSlot(), batch);
     c.submitNow([&](VkCommandBuffer commands) {
+      recordInit(commands);
       if (timer) timer->recordStart(commands);
       record(scene, commands, blockingSlot());
       if (timer) timer->recordEnd(commands);
@@ -460,12 +506,14 @@ void GpuSimulation::setState(const State& state) {
   }
   m.clocks = state.clocks;
   m.step = state.step;
+  m.initPending = false;  // every chunk was written
 }
 
 State GpuSimulation::state() {
   Impl& m = *impl_;
   State out;
   out.particles.resize(scene_.particles());
+  if (m.initPending) m.c.submitNow([&](VkCommandBuffer commands) { m.recordInit(commands); });
   for (const ParticleChunk& chunk : m.chunks) {
     const VkDeviceSize bytes = chunk.count * kParticleBytes;
     m.c.submitNow([&](VkCommandBuffer commands) {

@@ -84,6 +84,7 @@ namespace lava::detail {
   X(CmdPipelineBarrier)           \
   X(CmdCopyBuffer)                \
   X(CmdFillBuffer)                \
+  X(CmdUpdateBuffer)              \
   X(CmdDraw)                      \
   X(CmdDrawIndirect)              \
   X(CmdResetQueryPool)            \
