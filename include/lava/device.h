@@ -82,9 +82,12 @@ struct DeviceSummary {
   uint32_t apiVersion;
 };
 
-// Thread safety: takeValidationMessages() may be called from any thread. Everything else
-// of a Device, and the objects made on it, from one thread at a time: their blocking helpers
-// share the Device's command pool and submit to its queue.
+// Thread safety: takeValidationMessages() may be called from any thread. Distinct objects
+// made on one Device may be built, used for recording and destroyed on distinct threads at
+// once (each records only into the command buffer it is given, and owns its descriptor
+// pools); two GpuSimulations on two threads are tested. The blocking helpers of all of them
+// share the Device's command pool and submit to its queue: one at a time, and not while
+// the host uses that queue on another thread.
 class LAVA_API Device {
  public:
   // Creates an instance and a device (throws ResourceError when there is no driver, no

@@ -47,8 +47,9 @@ struct LookSettings {
   float threshold = 0.1f;  // energy per pixel (of a 16x16 cell) below which nothing glows
 };
 
-// Thread safety: as its Device's (one thread at a time); recordDraw() is const but writes
-// the frame slot's descriptor sets where the device has no push descriptors.
+// Thread safety: one thread at a time per object, recordDraw() included (it is const but
+// writes the frame slot's descriptor sets where the device has no push descriptors);
+// distinct objects on one Device on distinct threads (see Device).
 // Nothing in the class submits or waits: its set-up (an image's first layout, emptied
 // lists) is recorded by the next recordPrepare(). Destroy it once the host's last
 // submission that used it has finished.

@@ -104,8 +104,9 @@ struct ParticleChunk {
 //
 // `frame` in [0, framesInFlight) names per-frame resources: update(frame) may be called
 // once the host's previous submission that used `frame` has finished.
-// Thread safety: as its Device's (one thread at a time); const calls from any thread
-// while no other call runs.
+// Thread safety: one thread at a time per object (const calls from any thread while no
+// other call runs); distinct objects on one Device on distinct threads, except the
+// blocking helpers (see Device).
 class LAVA_API GpuSimulation final : public Simulation {
  public:
   GpuSimulation(Device& device, const Scene& scene, const GpuSimulationOptions& options = {});
