@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # The installed library on a fresh prefix: `cmake --install` of this build; its include/ holds only lava/;
+# the scenes under share/lava/scenes, named by the CMake package and pkg-config;
 # every symbol of the library is lava's or a dependency's; examples/embed and
 # examples/headless configure, build and run against it with find_package(Lava); the
 # headless example also builds as one file with `pkg-config --cflags --libs lava`. The
@@ -18,6 +19,9 @@ extra=$(find "$prefix/include" -mindepth 1 -maxdepth 1 ! -name lava)
 [ -z "$extra" ] || { echo "FAIL: include/ holds more than lava/: $extra"; exit 1; }
 [ -f "$prefix/include/lava/lava.h" ] || { echo "FAIL: no lava/lava.h"; exit 1; }
 [ -f "$prefix/lib/cmake/Lava/LavaConfigVersion.cmake" ] || { echo "FAIL: no version file"; exit 1; }
+for scene in crater volcano fountain vortex room modules/all; do
+  [ -f "$prefix/share/lava/scenes/$scene.toml" ] || { echo "FAIL: $scene.toml not installed"; exit 1; }
+done
 library=$(readlink -f "$prefix/lib/liblava.so")
 readelf -d "$library" | grep -q 'SONAME.*liblava.so.0' || { echo "FAIL: no SONAME"; exit 1; }
 /usr/bin/python3 "$source/tests/check_symbols.py" "$library"
@@ -44,6 +48,8 @@ done
 
 # One file and pkg-config, as a Makefile would do it.
 export PKG_CONFIG_PATH=$prefix/lib/pkgconfig
+[ "$(pkg-config --variable=scenesdir lava)" -ef "$prefix/share/lava/scenes" ] ||
+  { echo "FAIL: pkg-config's scenesdir is $(pkg-config --variable=scenesdir lava)"; exit 1; }
 if pkg-config --cflags lava | grep -q -- '-std='; then
   echo "FAIL: lava.pc sets a language standard: $(pkg-config --cflags lava)"; exit 1
 fi

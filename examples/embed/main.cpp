@@ -246,7 +246,8 @@ int run() {
   handles.pushDescriptors = host.pushDescriptors;
   lava::Device device(handles);
 
-  lava::Scene scene;  // the lava crater: 5,000 slots, 1,000 births per second
+  // The lava crater (5,000 slots, 1,000 births per second), as Lava installs it.
+  lava::Scene scene = lava::loadScene(std::string(LAVA_SCENES_DIR) + "/crater.toml");
   scene.emitters[0].rate = 4000.0;
   const uint32_t framesInFlight = 2;
   lava::GpuSimulationOptions options;
