@@ -500,6 +500,49 @@ TEST(EmbeddingThreads, TwoSimulationsRecordOnTwoThreads) {
   for (const std::string& m : host.messages) ADD_FAILURE() << "validation: " << m;
 }
 
+// deviceRequirements() asked about a device reports what it offers; a host that tells Lava
+// which features it enabled gets an error naming the one missing.
+TEST(EmbeddingFeatures, RequirementsAskTheDeviceAndEnabledFeaturesAreChecked) {
+  HostDevice host;
+  const DeviceRequirements asked =
+      deviceRequirements(host.handles.instance, host.handles.physicalDevice);
+  EXPECT_TRUE(asked.int64Atomics) << "lavapipe offers shaderInt64 and shaderBufferInt64Atomics";
+  ASSERT_EQ(asked.optionalExtensions.size(), 1u);
+  EXPECT_STREQ(asked.optionalExtensions[0], VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
+
+  // The chain the host says it created the device with.
+  VkPhysicalDeviceDynamicRenderingFeatures dynamic{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DYNAMIC_RENDERING_FEATURES};
+  dynamic.dynamicRendering = VK_TRUE;
+  VkPhysicalDeviceFeatures2 enabled{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  enabled.pNext = &dynamic;
+  const auto expectError = [&](DeviceHandles handles, const std::string& parameter,
+                               const std::string& feature) {
+    try {
+      Device device(handles);
+      ADD_FAILURE() << "accepted without " << feature;
+    } catch (const InvalidArgument& e) {
+      EXPECT_EQ(e.parameter(), parameter);
+      EXPECT_NE(std::string(e.what()).find(feature), std::string::npos) << e.what();
+    }
+  };
+  DeviceHandles handles = host.handles;
+  handles.enabledFeatures = &enabled;
+  handles.int64Atomics = true;  // but neither feature in the chain
+  expectError(handles, "int64Atomics", "shaderInt64");
+  enabled.features.shaderInt64 = VK_TRUE;
+  expectError(handles, "int64Atomics", "shaderBufferInt64Atomics");
+  handles.int64Atomics = false;
+  dynamic.dynamicRendering = VK_FALSE;
+  expectError(handles, "enabledFeatures", "dynamicRendering");
+  dynamic.dynamicRendering = VK_TRUE;
+  {
+    Device device(handles);  // what the device really has: accepted
+    EXPECT_EQ(device.handles().enabledFeatures, nullptr) << "kept a pointer of the host's";
+  }
+  for (const std::string& m : host.messages) ADD_FAILURE() << "validation: " << m;
+}
+
 using EmbeddingDraw = test::VulkanTest;
 
 TEST_F(EmbeddingDraw, LinesLandInAHostImageOfAnotherChannelOrder) {

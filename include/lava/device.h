@@ -40,6 +40,12 @@ struct DeviceHandles {
   // descriptors instead of writing sets from pools of its own. For a device Lava created,
   // whether it enabled it.
   bool pushDescriptors = false;
+  // Optional: the feature chain the device was created with (VkDeviceCreateInfo::pNext, or
+  // pEnabledFeatures wrapped in one). Vulkan cannot report a device's enabled features, so
+  // with this Lava checks them: dynamic rendering, and shaderInt64 and
+  // shaderBufferInt64Atomics when int64Atomics is set (InvalidArgument naming the feature).
+  // Read only in the Device constructor.
+  const VkPhysicalDeviceFeatures2* enabledFeatures = nullptr;
 };
 
 // What a device must offer Lava: create it with these (vk-bootstrap or by hand).
@@ -56,8 +62,14 @@ struct DeviceRequirements {
   std::vector<const char*> optionalExtensions;
 };
 // For a physical device of Vulkan version `deviceApiVersion` (1.2 needs the dynamic
-// rendering extension, 1.3 has it in core).
+// rendering extension, 1.3 has it in core), without asking it: int64Atomics is true and
+// optionalExtensions lists every optional extension; enable those the device offers.
 LAVA_API DeviceRequirements deviceRequirements(uint32_t deviceApiVersion = VK_API_VERSION_1_3);
+// For this physical device, asked: int64Atomics only where it offers both features,
+// optionalExtensions only those it offers. The instance must be of Vulkan 1.2 or later
+// (VkApplicationInfo::apiVersion); `getInstanceProcAddr` as in DeviceHandles.
+LAVA_API DeviceRequirements deviceRequirements(VkInstance instance, VkPhysicalDevice physical,
+                                               PFN_vkGetInstanceProcAddr getInstanceProcAddr = nullptr);
 
 // How Lava creates a device of its own.
 struct DeviceOptions {

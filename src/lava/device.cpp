@@ -378,6 +378,73 @@ DeviceRequirements deviceRequirements(uint32_t deviceApiVersion) {
   return r;
 }
 
+DeviceRequirements deviceRequirements(VkInstance instance, VkPhysicalDevice physical,
+                                      PFN_vkGetInstanceProcAddr getInstanceProcAddr) {
+  detail::Vk vk;
+  vk.loadGlobal(getInstanceProcAddr ? getInstanceProcAddr : vkGetInstanceProcAddr);
+  vk.loadInstance(instance);
+  VkPhysicalDeviceProperties properties;
+  vk.GetPhysicalDeviceProperties(physical, &properties);
+  DeviceRequirements r = deviceRequirements(properties.apiVersion);
+  r.int64Atomics = offersInt64Atomics(vk, physical);
+  const std::vector<VkExtensionProperties> offered = deviceExtensions(vk, physical);
+  std::vector<const char*> optional;
+  for (const char* name : r.optionalExtensions)
+    if (offers(offered, name)) optional.push_back(name);
+  r.optionalExtensions = optional;
+  return r;
+}
+
+namespace {
+
+// The features a borrowed device was created with, as the host gave them: what Lava needs
+// must be there (InvalidArgument naming the feature).
+void checkEnabledFeatures(const DeviceHandles& h, uint32_t apiVersion) {
+  if (!h.enabledFeatures) return;
+  bool dynamicRendering = false, atomics = false;
+  for (auto* s = static_cast<const VkBaseInStructure*>(h.enabledFeatures->pNext); s;
+       s = s->pNext) {
+    switch (s->sType) {
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES:
+        dynamicRendering = dynamicRendering ||
+            reinterpret_cast<const VkPhysicalDeviceVulkan13Features*>(s)->dynamicRendering;
+        break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DYNAMIC_RENDERING_FEATURES:
+        dynamicRendering = dynamicRendering ||
+            reinterpret_cast<const VkPhysicalDeviceDynamicRenderingFeatures*>(s)->dynamicRendering;
+        break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES:
+        atomics = atomics ||
+            reinterpret_cast<const VkPhysicalDeviceVulkan12Features*>(s)->shaderBufferInt64Atomics;
+        break;
+      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES:
+        atomics = atomics || reinterpret_cast<const VkPhysicalDeviceShaderAtomicInt64Features*>(s)
+                                 ->shaderBufferInt64Atomics;
+        break;
+      default:
+        break;
+    }
+  }
+  if (!dynamicRendering)
+    throw InvalidArgument("enabledFeatures",
+                          std::string("the device was created without dynamicRendering (") +
+                              (apiVersion >= VK_API_VERSION_1_3
+                                   ? "VkPhysicalDeviceVulkan13Features"
+                                   : "VkPhysicalDeviceDynamicRenderingFeatures") +
+                              "): Lava draws with dynamic rendering");
+  if (h.int64Atomics && !h.enabledFeatures->features.shaderInt64)
+    throw InvalidArgument("int64Atomics",
+                          "set, but the device was created without shaderInt64 "
+                          "(VkPhysicalDeviceFeatures)");
+  if (h.int64Atomics && !atomics)
+    throw InvalidArgument("int64Atomics",
+                          "set, but the device was created without shaderBufferInt64Atomics "
+                          "(VkPhysicalDeviceVulkan12Features or "
+                          "VkPhysicalDeviceShaderAtomicInt64Features)");
+}
+
+}  // namespace
+
 Device::Device(const DeviceOptions& options) : context_(std::make_unique<DeviceContext>()) {
   DeviceContext& c = *context_;
   c.owned = true;
@@ -412,6 +479,12 @@ Device::Device(const DeviceHandles& borrowed) : context_(std::make_unique<Device
   if (borrowed.int64Atomics && !offersInt64Atomics(c.vk, c.handles.physicalDevice))
     throw InvalidArgument("int64Atomics",
                           "set, but the device offers no shaderInt64 or shaderBufferInt64Atomics");
+  {
+    VkPhysicalDeviceProperties properties;
+    c.vk.GetPhysicalDeviceProperties(c.handles.physicalDevice, &properties);
+    checkEnabledFeatures(borrowed, properties.apiVersion);
+    c.handles.enabledFeatures = nullptr;  // the host's, valid only in this call
+  }
   const std::vector<VkExtensionProperties> offered =
       deviceExtensions(c.vk, c.handles.physicalDevice);
   if (borrowed.pushDescriptors && !offers(offered, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME))
