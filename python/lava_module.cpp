@@ -17,6 +17,8 @@
 #include <thread>
 
 #include "lava/lava.h"
+#include "lava/scene_keys.h"
+#include "lava/validation.h"
 
 namespace py = pybind11;
 
@@ -137,7 +139,7 @@ Options options(const py::object& scenePath, const py::kwargs& params,
     }
   }
   try {
-    lava::validate(o.scene);
+    lava::checkScene(o.scene);
   } catch (const lava::InvalidArgument& e) {
     throw py::value_error(e.what());
   }

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "lava/lava.h"
+#include "lava/checkpoint.h"
 
 namespace lava {
 namespace {

@@ -15,6 +15,7 @@
 #include "lava/camera.h"
 #include "host/offscreen.h"
 #include "lava/lava.h"
+#include "lava/validation.h"
 #include "vulkan_test.h"
 
 namespace lava {

@@ -8,6 +8,8 @@
 #include <set>
 
 #include "lava/lava.h"
+#include "lava/validation.h"
+#include "lava/checkpoint.h"
 #include "test_scenes.h"
 #include "vulkan_test.h"
 

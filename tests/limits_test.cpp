@@ -10,6 +10,7 @@
 #include "host/frame_renderer.h"
 #include "host/offscreen.h"
 #include "lava/lava.h"
+#include "lava/validation.h"
 #include "shared.h"
 #include "vulkan/commands.h"
 #include "vulkan/device_context.h"

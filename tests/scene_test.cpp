@@ -1,4 +1,4 @@
-// The scene as data: keys set from text with ranges and names in their errors, validate()
+// The scene as data: keys set from text with ranges and names in their errors, checkScene()
 // naming the offending table entry, format-2 TOML in and out (round trip exact).
 #include <gtest/gtest.h>
 
@@ -6,6 +6,7 @@
 
 #include "lava/error.h"
 #include "lava/scene.h"
+#include "lava/scene_keys.h"
 
 namespace lava {
 namespace {
@@ -43,17 +44,17 @@ TEST(SceneKeys, ValidateNamesTheTableEntry) {
   Scene s;
   s.emitters.resize(3);
   s.emitters[1].radius = -1.0f;
-  EXPECT_EQ(parameterOf([&] { validate(s); }), "emitter[1].radius");
+  EXPECT_EQ(parameterOf([&] { checkScene(s); }), "emitter[1].radius");
   s.emitters[1].radius = 0.5f;
   s.colliders.resize(2);
   s.colliders[1].normal = {0.0f, 0.0f, 0.0f};
-  EXPECT_EQ(parameterOf([&] { validate(s); }), "collider[1].normal");
+  EXPECT_EQ(parameterOf([&] { checkScene(s); }), "collider[1].normal");
   s.colliders[1].normal = {0.0f, 1.0f, 0.0f};
   s.emitters.resize(17);
-  EXPECT_EQ(parameterOf([&] { validate(s); }), "emitter");
+  EXPECT_EQ(parameterOf([&] { checkScene(s); }), "emitter");
   s.emitters.resize(2);
   s.emitters[0].particles = 0x80000000u;
-  EXPECT_EQ(parameterOf([&] { validate(s); }), "particles");
+  EXPECT_EQ(parameterOf([&] { checkScene(s); }), "particles");
 }
 
 TEST(SceneToml, FormatTwoTablesAndFlatKeys) {
@@ -113,7 +114,7 @@ TEST(SceneToml, BadDataNamesTheKeyAndTableIndex) {
   std::string many;
   for (int i = 0; i < 17; ++i) many += "[[emitter]]\n";
   EXPECT_EQ(parameterOf([&] { parseScene(many, "f"); }), "f: emitter");
-  EXPECT_EQ(parameterOf([&] { validate(parseScene("[[collider]]\nnormal = [0, 0, 0]\n", "f")); }),
+  EXPECT_EQ(parameterOf([&] { checkScene(parseScene("[[collider]]\nnormal = [0, 0, 0]\n", "f")); }),
             "collider[0].normal");
 }
 

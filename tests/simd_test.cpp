@@ -8,6 +8,7 @@
 #include <hwy/targets.h>
 
 #include "lava/lava.h"
+#include "lava/validation.h"
 #include "sim/reference.h"
 #include "sim/simd.h"
 #include "test_scenes.h"
@@ -60,7 +61,7 @@ TEST(Simd, RandomScenesOfEveryModuleGiveTheReferenceBytes) {
   std::mt19937 rng(15);
   for (int scene = 0; scene < 16; ++scene) {
     const Scene s = test::randomModuleScene(rng);
-    ASSERT_NO_THROW(validate(s));
+    ASSERT_NO_THROW(checkScene(s));
     SCOPED_TRACE("scene " + std::to_string(scene) + ": " + std::to_string(s.forces.size()) +
                  " forces, " + std::to_string(s.colliders.size()) + " colliders, " +
                  name(s.integrator));

@@ -6,6 +6,7 @@
 //   cmake -S examples/embed -B embed -DCMAKE_PREFIX_PATH=<where Lava is installed>
 //   cmake --build embed && ./embed/lava_embed
 #include <lava/lava.h>
+#include <lava/validation.h>  // lava::compare
 #include <vulkan/vulkan.h>
 
 #include <cstdio>

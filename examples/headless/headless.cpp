@@ -2,6 +2,7 @@
 // command buffer and submitted on its own queue, the result checked against Lava's CPU
 // reference. Exit status 0 when they agree bit for bit.
 #include <lava/lava.h>
+#include <lava/validation.h>  // lava::compare
 
 #include <cstdio>
 

@@ -1,4 +1,5 @@
-// Lava: a Vulkan compute-shader particle engine. Include this one header.
+// Lava: a Vulkan compute-shader particle engine. This header is what a host needs: the
+// device, scenes, the simulations, the renderers, states and errors.
 //
 //   lava::Device device(handles);                  // the host's VkInstance, device, queue
 //   lava::GpuSimulation sim(device, scene);        // scene: lava::Scene or loadScene(path)
@@ -6,10 +7,12 @@
 //   per frame: sim.update(frame, steps); sim.recordSimulate(cmd, frame);
 //              lines.recordPrepare(cmd, frame, sim, view);
 //              vkCmdBeginRendering(...); lines.recordDraw(cmd, frame, sim, view); ...
+//
+// Tools a host may ignore have headers of their own: <lava/validation.h> (comparing
+// backends), <lava/checkpoint.h> (checkpoint files), <lava/scene_keys.h> (scene keys as
+// text), <lava/bench.h> (compute ceilings).
 #pragma once
-#include "bench.h"
 #include "camera.h"
-#include "checkpoint.h"
 #include "device.h"
 #include "error.h"
 #include "lava/version.h"
@@ -18,4 +21,3 @@
 #include "scene.h"
 #include "simulation.h"
 #include "state.h"
-#include "validation.h"

@@ -13,6 +13,7 @@
 #include "commands.h"
 #include "host/output.h"
 #include "lava/lava.h"
+#include "lava/bench.h"
 #include "options.h"
 #include "runtime.h"
 #include "paths.h"

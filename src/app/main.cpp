@@ -17,6 +17,7 @@
 #include "lava/error.h"
 #include "lava/scene.h"
 #include "lava/version.h"
+#include "lava/scene_keys.h"
 #include "runtime.h"
 #include "paths.h"
 

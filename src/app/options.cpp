@@ -7,6 +7,7 @@
 
 #include "host/output.h"
 #include "lava/error.h"
+#include "lava/scene_keys.h"
 #include "paths.h"
 
 namespace lava::app {
@@ -137,7 +138,7 @@ void Options::resolve() {
   // What no single key decides (a zero normal, a cone's radii, the emitters' total), named
   // where it came from.
   if (scene_) try {
-      validate(*scene_);
+      checkScene(*scene_);
     } catch (const InvalidArgument& e) {
       throw UsageError((scenePath_.empty() ? "--" : scenePath_ + ": ") + e.what());
     }

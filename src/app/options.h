@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "lava/scene.h"
+#include "lava/scene_keys.h"
 
 namespace lava::app {
 

@@ -2,6 +2,7 @@
 
 #include "host/output.h"
 #include "lava/error.h"
+#include "lava/checkpoint.h"
 #include "paths.h"
 
 namespace lava::app {

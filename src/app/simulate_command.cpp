@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "host/output.h"
 #include "lava/lava.h"
+#include "lava/checkpoint.h"
 #include "options.h"
 #include "resume.h"
 #include "runtime.h"

@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "host/output.h"
 #include "lava/lava.h"
+#include "lava/scene_keys.h"
 #include "options.h"
 #include "runtime.h"
 #include "paths.h"

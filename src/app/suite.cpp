@@ -10,6 +10,7 @@
 
 #include "host/output.h"
 #include "lava/error.h"
+#include "lava/validation.h"
 #include "module_scenes.h"
 #include "paths.h"
 
@@ -177,7 +178,7 @@ std::vector<Case> loadSuite(const std::string& path) {
         text << toml::toml_formatter(table);
         c.scene = parseScene(text.str(), at);
       }
-      validate(c.scene);
+      checkScene(c.scene);
     } catch (const InvalidArgument& e) {
       throw UsageError((e.parameter().rfind(at, 0) == 0 ? "" : at + ": ") +
                              std::string(e.what()));

@@ -433,7 +433,7 @@ class Demo {
       if (restart_) {
         try {
           const Scene next = panel_.edited();
-          validate(next);
+          checkScene(next);
           if (next.particles() > device_.maxParticles())
             throw InvalidArgument(
                 "particles", "this device holds at most " + std::to_string(device_.maxParticles()));

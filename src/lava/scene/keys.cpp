@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "lava/error.h"
+#include "lava/scene_keys.h"
 
 namespace lava::detail {
 namespace {

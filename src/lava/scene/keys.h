@@ -1,5 +1,5 @@
 // The scene keys as data: each key's name, kind, help, range and the field it sets. One
-// table serves setSceneKey() (text in), validate() (ranges of a Scene built in code) and
+// table serves setSceneKey() (text in), checkScene() (ranges of a Scene built in code) and
 // toToml() (text out), so a range is written once.
 #pragma once
 #include <functional>
@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "lava/scene.h"
+#include "lava/scene_keys.h"
 
 namespace lava::detail {
 

@@ -4,6 +4,7 @@
 #include "keys.h"
 #include "lava/error.h"
 #include "lava/scene.h"
+#include "lava/scene_keys.h"
 
 namespace lava {
 
@@ -39,7 +40,7 @@ void checkCount(size_t count, uint32_t most, const char* table) {
 
 }  // namespace
 
-void validate(const Scene& scene) {
+void checkScene(const Scene& scene) {
   for (const detail::KeyDef& d : detail::keyDefs(KeyTable::Top))
     if (!d.emitterZero) d.check(scene, 0, d.key.name);
   if (scene.emitters.empty())

@@ -11,6 +11,7 @@
 #include "keys.h"
 #include "lava/error.h"
 #include "lava/scene.h"
+#include "lava/scene_keys.h"
 
 namespace lava {
 namespace {
@@ -151,7 +152,7 @@ Scene loadScene(const std::string& path, const OtherKey& other) {
 }
 
 std::string toToml(const Scene& scene) {
-  validate(scene);
+  checkScene(scene);
   std::ostringstream out;
   auto line = [&out](const detail::KeyDef& d, const Scene& s, size_t i) {
     const std::string text = d.text(s, i);

@@ -290,7 +290,7 @@ uint64_t leadingDimension(const Reader& r, const std::map<std::string, std::stri
 }  // namespace
 
 std::string checkpointBytes(const Scene& scene, const State& state) {
-  validate(scene);
+  checkScene(scene);
   checkState(scene, state);
   const std::string format = bytesOf(&kCheckpointFormat, 1);
   const std::string sceneText = toToml(scene);

@@ -5,13 +5,13 @@
 namespace lava {
 
 Simulation::Simulation(const Scene& scene) : scene_(scene) {
-  validate(scene_);
+  checkScene(scene_);
 }
 
 Simulation::~Simulation() = default;
 
 void Simulation::setScene(const Scene& scene) {
-  validate(scene);
+  checkScene(scene);
   if (scene.emitters.size() != scene_.emitters.size())
     throw InvalidArgument("emitter", "a running simulation keeps its " +
                                          std::to_string(scene_.emitters.size()) + " emitters");
