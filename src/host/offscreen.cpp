@@ -102,9 +102,7 @@ std::optional<VkDeviceSize> OffscreenTarget::hostBytes(const Device& device, VkE
 }
 
 OffscreenTarget::OffscreenTarget(const Device& device, VkExtent2D extent, VkFormat color)
-    : device_(device),
-      extent_(extent),
-      format_(color),
+    : extent_(extent),
       copyable_(copyTargetUsage(device, color) && copyTargetUsage(device, kDepthFormat)),
       color_(createImage(device, extent, color,
                          VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
@@ -118,9 +116,7 @@ OffscreenTarget::OffscreenTarget(const Device& device, VkExtent2D extent, VkForm
 
 OffscreenTarget::OffscreenTarget(const Device& device, VkExtent2D extent, VkFormat color,
                                  void* host)
-    : device_(device),
-      extent_(extent),
-      format_(color),
+    : extent_(extent),
       host_(host),
       copyable_(true),
       color_(importHostColorImage(device, extent, color, host)),

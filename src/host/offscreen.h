@@ -66,9 +66,7 @@ class OffscreenTarget {
   const uint8_t* mappedPixels() const;
 
  private:
-  const Device& device_;
   VkExtent2D extent_;
-  VkFormat format_;
   void* host_ = nullptr;
   bool copyable_;
   Image color_;
