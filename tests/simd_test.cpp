@@ -114,19 +114,36 @@ TEST(Simd, EveryInstructionSetOfThisCpuGivesTheReferenceBytes) {
   a.advance(900);
   b.advance(900);
   for (const std::string& target : targets) {
-    setCpuSimdTarget(target);
     SCOPED_TRACE(target);
-    EXPECT_EQ(cpuSimdTarget().rfind(target + " (", 0), 0u) << cpuSimdTarget();
-    CpuSimulation sa(all, 2, CpuKernel::Simd), sb(random, 1, CpuKernel::Simd);
+    CpuSimulation sa(all, 2, CpuKernel::Simd, target), sb(random, 1, CpuKernel::Simd, target);
+    EXPECT_EQ(sa.simdTarget().rfind(target + " (", 0), 0u) << sa.simdTarget();
     sa.advance(900);
     sb.advance(900);
     expectSameBytes(sa.state(), a.state());
     expectSameBytes(sb.state(), b.state());
   }
-  setCpuSimdTarget("");
   EXPECT_EQ(cpuSimdTarget().rfind(targets.front() + " (", 0), 0u) << cpuSimdTarget();
-  EXPECT_THROW(setCpuSimdTarget("MMX"), InvalidArgument);
-  EXPECT_EQ(cpuSimdTarget().rfind(targets.front() + " (", 0), 0u) << cpuSimdTarget();
+  EXPECT_EQ(CpuSimulation(all, 1, CpuKernel::Simd).simdTarget(), cpuSimdTarget());
+  try {
+    CpuSimulation bad(all, 1, CpuKernel::Simd, "MMX");
+    ADD_FAILURE() << "MMX accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_EQ(e.parameter(), "simd-target");
+  }
+}
+
+// Two simulations on two instruction sets at once: the choice is each simulation's.
+TEST(Simd, EachSimulationKeepsItsOwnTarget) {
+  const std::vector<std::string> targets = cpuSimdTargets();
+  const std::string last = targets.back();
+  CpuSimulation best(test::moduleScene("all"), 1, CpuKernel::Simd);
+  CpuSimulation other(test::moduleScene("all"), 1, CpuKernel::Simd, last);
+  EXPECT_EQ(best.simdTarget(), cpuSimdTarget());
+  EXPECT_EQ(other.simdTarget().rfind(last + " (", 0), 0u) << other.simdTarget();
+  best.advance(300);
+  other.advance(300);
+  expectSameBytes(best.state(), other.state());
+  EXPECT_EQ(best.simdTarget(), cpuSimdTarget()) << "the other simulation's choice leaked";
 }
 
 // Highway's target selection belongs to the process: a host that uses Highway itself must
@@ -137,15 +154,13 @@ TEST(Simd, ChoosingATargetLeavesHighwaysOwnSelectionAlone) {
   const size_t index = hwy::GetChosenTarget().GetIndex();
   const std::vector<std::string> targets = cpuSimdTargets();
   for (const std::string& target : targets) {
-    setCpuSimdTarget(target);
-    CpuSimulation simd(test::moduleScene("all"), 1, CpuKernel::Simd);
+    CpuSimulation simd(test::moduleScene("all"), 1, CpuKernel::Simd, target);
     simd.advance(10);
     EXPECT_EQ(simd.name().rfind("cpu-simd " + target + " (", 0), 0u) << simd.name();
     EXPECT_EQ(hwy::SupportedTargets(), supported) << target;
     EXPECT_EQ(hwy::GetChosenTarget().IsInitialized(), initialized) << target;
     EXPECT_EQ(hwy::GetChosenTarget().GetIndex(), index) << target;
   }
-  setCpuSimdTarget("");
   EXPECT_EQ(cpuSimdTargets(), targets);
 }
 

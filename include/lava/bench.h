@@ -1,6 +1,7 @@
 // The ceilings `lava bench` measures a backend against, on the same device in the same run.
 #pragma once
 #include <cstdint>
+#include <string>
 
 #include <vector>
 
@@ -28,8 +29,10 @@ LAVA_API double cpuCopySeconds(uint64_t particles, unsigned threads, int passes 
 LAVA_API double gpuComputeUpdatesPerSecond(Device& device, const Scene& scene,
                                            const std::vector<Particle>& start, uint32_t steps,
                                            int passes = 3);
+// `simdTarget` as CpuSimulation's.
 LAVA_API double cpuComputeUpdatesPerSecond(const Scene& scene, const std::vector<Particle>& start,
                                            uint64_t steps, unsigned threads, CpuKernel kernel,
-                                           int passes = 3, double seconds = 0.15);
+                                           int passes = 3, double seconds = 0.15,
+                                           const std::string& simdTarget = "");
 
 }  // namespace lava

@@ -44,16 +44,14 @@ enum class CpuKernel {
   Simd,       // cpu-simd: the same operations on SIMD lanes (the widest the CPU runs)
 };
 
-// The instruction set CpuKernel::Simd uses on this CPU: "AVX3 (512-bit, 16 lanes)".
+// The instruction set CpuKernel::Simd uses on this CPU unless a simulation names another:
+// the best, "AVX3 (512-bit, 16 lanes)".
 LAVA_API std::string cpuSimdTarget();
 // The instruction sets it can use here (compiled in and run by this CPU), best first:
-// "AVX3", "AVX2", "SSE4", ... Every one computes the same bytes.
+// "AVX3", "AVX2", "SSE4", ... Every one computes the same bytes. A simulation chooses one
+// (CpuSimulation's simdTarget); Lava dispatches to it itself, so Highway's own target
+// selection, which the host may use too, is left alone, and no choice is process-wide.
 LAVA_API std::vector<std::string> cpuSimdTargets();
-// Makes CpuKernel::Simd use `target`, one of cpuSimdTargets() ("" for the best), in every
-// simulation of this process; InvalidArgument naming "simd-target" otherwise. Lava's own
-// choice: Highway's target selection, which the host may use too, is left alone. Call it
-// while no simulation runs.
-LAVA_API void setCpuSimdTarget(const std::string& target);
 
 // The CPU backend: the reference written apart from the shaders, or its SIMD twin.
 // Thread safety: one thread at a time per object; distinct objects are independent (with
@@ -61,14 +59,19 @@ LAVA_API void setCpuSimdTarget(const std::string& target);
 class LAVA_API CpuSimulation final : public Simulation {
  public:
   // `threads` workers split the particles (1: the calling thread only, no thread created).
+  // `simdTarget`: for CpuKernel::Simd, one of cpuSimdTargets() ("": the best);
+  // InvalidArgument naming "simd-target" otherwise.
   explicit CpuSimulation(const Scene& scene, unsigned threads = 1,
-                         CpuKernel kernel = CpuKernel::Reference);
+                         CpuKernel kernel = CpuKernel::Reference,
+                         const std::string& simdTarget = "");
   void advance(uint64_t steps) override;
   State state() override { return state_; }
   void setState(const State& state) override;
   std::string name() const override;
   unsigned threads() const { return threads_; }
   CpuKernel kernel() const { return kernel_; }
+  // CpuKernel::Simd's instruction set, "AVX2 (256-bit, 8 lanes)"; "" for the reference.
+  std::string simdTarget() const;
   // The state in place (no copy), valid until the next call that changes it.
   const State& view() const { return state_; }
 
@@ -76,6 +79,7 @@ class LAVA_API CpuSimulation final : public Simulation {
   State state_;
   unsigned threads_;
   CpuKernel kernel_;
+  int64_t simdTarget_;  // Highway's target bit (0: the best)
 };
 
 struct GpuSimulationOptions {

@@ -70,12 +70,13 @@ class BenchCommand final : public Command {
     options_.add("simd-target",
                  "instruction set of the cpu-simd rows, one of this CPU's (see 'lava info') "
                  "[the best]",
-                 [](const std::string& src, const std::string& t) {
+                 [this](const std::string& src, const std::string& t) {
                    try {
-                     setCpuSimdTarget(t);
+                     simdDescription_ = CpuSimulation(Scene{}, 1, CpuKernel::Simd, t).simdTarget();
                    } catch (const InvalidArgument& e) {
                      throw UsageError(src + ": " + e.detail());
                    }
+                   simdTarget_ = t;
                  });
     options_.add("json", "also write the results to FILE.json",
                  [this](const std::string& src, const std::string& t) {
@@ -95,7 +96,7 @@ class BenchCommand final : public Command {
     std::printf("bench: %s, %llu steps, %u steps per dispatch, %u CPU threads for -mt; "
                 "cpu-simd: %s\n",
                 device.c_str(), static_cast<unsigned long long>(steps_), fused_, cores,
-                cpuSimdTarget().c_str());
+                simdDescription_.c_str());
     std::printf("%-11s %10s %12s %12s %8s %9s %7s %12s %9s %7s\n", "backend", "particles",
                 "updates/s", "device upd/s", "GB/s", "copy GB/s", "x copy", "compute upd/s",
                 "x compute", "bound");
@@ -168,7 +169,7 @@ class BenchCommand final : public Command {
 
   Row benchCpu(const Scene& scene, const State& start, unsigned threads, CpuKernel kernel,
                const char* name) {
-    CpuSimulation sim(scene, threads, kernel);
+    CpuSimulation sim(scene, threads, kernel, simdTarget_);
     sim.setState(start);
     sim.advance(std::min<uint64_t>(steps_, 16));  // warm-up
     const double wall = secondsOf([&] { sim.advance(steps_); });
@@ -176,7 +177,8 @@ class BenchCommand final : public Command {
     // The compute ceiling does not depend on the particle count: measured once per row kind.
     auto [ceiling, fresh] = computeCeilings_.try_emplace(name, 0.0);
     if (fresh)
-      ceiling->second = cpuComputeUpdatesPerSecond(scene, start.particles, steps_, threads, kernel);
+      ceiling->second = cpuComputeUpdatesPerSecond(scene, start.particles, steps_, threads, kernel,
+                                                   3, 0.15, simdTarget_);
     // A block stays in L1 for a whole batch of planned steps (4096 at most).
     return report({name, scene.particles(), steps_, updates(scene, wall), updates(scene, wall),
                    bandwidth(scene, copy), 0.0, std::min<uint64_t>(steps_, 4096),
@@ -272,6 +274,8 @@ class BenchCommand final : public Command {
   uint32_t fused_ = 256;
   std::vector<std::string> backends_;
   std::string json_;
+  std::string simdTarget_;                           // --simd-target ("": the best)
+  std::string simdDescription_ = cpuSimdTarget();  // and what it is
   std::map<std::string, double> computeCeilings_;  // per row kind
   Progress* progress_ = nullptr;                   // rows done, while run() runs
   uint64_t reported_ = 0;

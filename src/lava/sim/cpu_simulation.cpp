@@ -20,28 +20,30 @@ constexpr uint64_t kScheduleBatch = 4096;  // steps whose emission is planned at
 }  // namespace
 
 std::string cpuSimdTarget() {
-  return detail::simdTarget();
+  return detail::simdTarget(0);
 }
 
 std::vector<std::string> cpuSimdTargets() {
   return detail::simdTargets();
 }
 
-void setCpuSimdTarget(const std::string& target) {
-  detail::useSimdTarget(target);
-}
-
-CpuSimulation::CpuSimulation(const Scene& scene, unsigned threads, CpuKernel kernel)
+CpuSimulation::CpuSimulation(const Scene& scene, unsigned threads, CpuKernel kernel,
+                             const std::string& simdTarget)
     : Simulation(scene),
       state_(initialState(scene)),
       threads_(std::max(threads, 1u)),
-      kernel_(kernel) {
-  if (kernel_ == CpuKernel::Simd) detail::simdTarget();  // finds the best once, before threads
+      kernel_(kernel),
+      simdTarget_(detail::simdTargetNamed(simdTarget)) {
+  if (kernel_ == CpuKernel::Simd) detail::simdTarget(0);  // finds the best once, before threads
+}
+
+std::string CpuSimulation::simdTarget() const {
+  return kernel_ == CpuKernel::Simd ? detail::simdTarget(simdTarget_) : "";
 }
 
 std::string CpuSimulation::name() const {
-  return (kernel_ == CpuKernel::Simd ? "cpu-simd " + detail::simdTarget() : "cpu reference") +
-         ", " + std::to_string(threads_) + (threads_ == 1 ? " thread" : " threads");
+  return (kernel_ == CpuKernel::Simd ? "cpu-simd " + simdTarget() : "cpu reference") + ", " +
+         std::to_string(threads_) + (threads_ == 1 ? " thread" : " threads");
 }
 
 void CpuSimulation::setState(const State& state) {
@@ -78,7 +80,8 @@ void CpuSimulation::advance(uint64_t steps) {
             std::min({blockSize, end - first, base + scene_.emitters[k].particles - first});
         const uint32_t slot = static_cast<uint32_t>(first - base);
         if (simd) {
-          detail::simdRun(reference, k, schedule[k], slot, &state_.particles[first], n);
+          detail::simdRun(reference, simdTarget_, k, schedule[k], slot, &state_.particles[first],
+                          n);
         } else {
           Particle block[detail::kReferenceBlock];
           std::copy_n(&state_.particles[first], n, block);

@@ -113,7 +113,8 @@ double cpuCopySeconds(uint64_t particles, unsigned threads, int passes) {
 
 double cpuComputeUpdatesPerSecond(const Scene& scene, const std::vector<Particle>& start,
                                   uint64_t steps, unsigned threads, CpuKernel kernel, int passes,
-                                  double seconds) {
+                                  double seconds, const std::string& simdTarget) {
+  const detail::SimdTarget target = detail::simdTargetNamed(simdTarget);
   threads = std::max(threads, 1u);
   steps = std::max<uint64_t>(steps, 1);
   const detail::Reference reference(scene);
@@ -127,7 +128,7 @@ double cpuComputeUpdatesPerSecond(const Scene& scene, const std::vector<Particle
       const size_t from = ((r * threads + thread) % blocks) * detail::kSimdBlock;
       for (size_t j = 0; j < block.size(); ++j)
         block[j] = start.empty() ? Particle{} : start[(from + j) % start.size()];
-      detail::stepKernelOnly(reference, block.data(), steps, scalar);
+      detail::stepKernelOnly(reference, block.data(), steps, scalar, target);
     }
   };
   uint64_t runs = 1;

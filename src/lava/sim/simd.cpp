@@ -17,7 +17,6 @@
 #include <hwy/highway.h>
 
 #include <algorithm>
-#include <atomic>
 
 #include "lava/error.h"
 #include "shared.h"
@@ -199,19 +198,14 @@ HWY_EXPORT(LaneCount);
 
 namespace {
 
-// Lava's choice among the targets compiled here and run by this CPU, as Highway's target bit
-// (0: the best). Lava indexes the HWY_EXPORT tables itself: Highway's own selection
-// (GetChosenTarget, SupportedTargets) is never changed, so a host that uses Highway keeps its.
-std::atomic<int64_t> chosenTarget{0};
-
 std::vector<int64_t> available() {  // best first
   return hwy::SupportedAndGeneratedTargets();
 }
 
-int64_t target() {
+// 0 (the best) made concrete.
+int64_t resolved(SimdTarget target) {
   static const int64_t best = available().front();
-  const int64_t chosen = chosenTarget.load();
-  return chosen ? chosen : best;
+  return target ? target : best;
 }
 
 // The entry of an HWY_EXPORT table that holds `target`'s function.
@@ -228,14 +222,15 @@ size_t tableIndex(int64_t target) {
 
 }  // namespace
 
-#define LAVA_DISPATCH(name) (*HWY_DISPATCH_TABLE(name)[tableIndex(target())])
+#define LAVA_DISPATCH(name, target) (*HWY_DISPATCH_TABLE(name)[tableIndex(resolved(target))])
 
-void simdRun(const Reference& reference, size_t emitter, const std::vector<Births>& schedule,
-             uint32_t first, Particle* slots, size_t count) {
-  LAVA_DISPATCH(Run)(reference, emitter, schedule, first, slots, count);
+void simdRun(const Reference& reference, SimdTarget target, size_t emitter,
+             const std::vector<Births>& schedule, uint32_t first, Particle* slots, size_t count) {
+  LAVA_DISPATCH(Run, target)(reference, emitter, schedule, first, slots, count);
 }
 
-uint64_t stepKernelOnly(const Reference& reference, Particle* block, uint64_t steps, bool scalar) {
+uint64_t stepKernelOnly(const Reference& reference, Particle* block, uint64_t steps, bool scalar,
+                        SimdTarget target) {
   // Each kernel's own loop over a block and a schedule, with no births in it.
   const std::vector<Births> none(std::min<uint64_t>(steps, 4096), Births{0, 0, 0});
   for (uint64_t done = 0; done < steps;) {
@@ -245,16 +240,16 @@ uint64_t stepKernelOnly(const Reference& reference, Particle* block, uint64_t st
       for (size_t first = 0; first < kSimdBlock; first += kReferenceBlock)
         reference.run(0, batch, 0, block + first, kReferenceBlock);
     else
-      simdRun(reference, 0, batch, 0, block, kSimdBlock);
+      simdRun(reference, target, 0, batch, 0, block, kSimdBlock);
     done += n;
   }
   return steps * kSimdBlock;
 }
 
-std::string simdTarget() {
-  const size_t lanes = LAVA_DISPATCH(LaneCount)();
-  return std::string(hwy::TargetName(LAVA_DISPATCH(Target)())) + " (" + std::to_string(lanes * 32) +
-         "-bit, " + std::to_string(lanes) + " lanes)";
+std::string simdTarget(SimdTarget target) {
+  const size_t lanes = LAVA_DISPATCH(LaneCount, target)();
+  return std::string(hwy::TargetName(LAVA_DISPATCH(Target, target)())) + " (" +
+         std::to_string(lanes * 32) + "-bit, " + std::to_string(lanes) + " lanes)";
 }
 
 std::vector<std::string> simdTargets() {
@@ -263,17 +258,11 @@ std::vector<std::string> simdTargets() {
   return names;
 }
 
-void useSimdTarget(const std::string& name) {
-  if (name.empty()) {
-    chosenTarget = 0;
-    return;
-  }
+SimdTarget simdTargetNamed(const std::string& name) {
+  if (name.empty()) return 0;
   std::string known;
   for (int64_t t : available()) {
-    if (name == hwy::TargetName(t)) {
-      chosenTarget = t;
-      return;
-    }
+    if (name == hwy::TargetName(t)) return t;
     known += (known.empty() ? "" : ", ") + std::string(hwy::TargetName(t));
   }
   throw InvalidArgument("simd-target",
