@@ -21,8 +21,8 @@ LAVA_API double gpuCopySeconds(Device& device, uint64_t particles, int passes = 
 // Seconds `threads` CPU threads take to copy `particles` particles (median of `passes`).
 LAVA_API double cpuCopySeconds(uint64_t particles, unsigned threads, int passes = 5);
 
-// The compute ceilings: updates/s of a backend's steps alone, with no emission and no
-// memory traffic, from `start` (the state a timed run starts from) for `steps` steps.
+// Blocking (the GPU's: submits and waits). The compute ceilings: updates/s of a backend's
+// steps alone, with no emission and no memory traffic, from `start` (the state a timed run starts from) for `steps` steps.
 // GPU: step.comp's steps (the scene's modules) for all of `start`, read and written once
 // per pass. CPU: the kernel's own loop on `threads` threads, each stepping blocks of
 // `start` that never leave L1. Medians of `passes` (CPU: of about `seconds` each).

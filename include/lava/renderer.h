@@ -111,7 +111,9 @@ class LAVA_API LineRenderer {
 // an 8 m square seen from its front); a scene without colliders whose emitter 0 is a disc
 // gets a crater of scenery under it. Opaque; writes depth.
 // Thread safety: recordDraw() from any thread into distinct command buffers (it reads only
-// what the constructor made); construction and destruction as its Device's.
+// what the constructor made); construction and destruction as its Device's. Nothing in the
+// class submits or waits; destroy it once the host's last submission that used it has
+// finished.
 class LAVA_API Backdrop {
  public:
   Backdrop(Device& device, const RenderFormats& formats);

@@ -57,7 +57,8 @@ struct ValidationReport {
   bool pass = true;                            // every checkpoint within the tolerance
 };
 
-// Advances both `every` steps at a time for `steps` steps, comparing at each checkpoint.
+// Blocking (through both simulations' blocking helpers): advances both `every` steps at a
+// time for `steps` steps, comparing at each checkpoint.
 // On the first difference it replays the last agreeing interval one step at a time to
 // name the first divergent step, then carries on from where each backend was, so later
 // checkpoints show the accumulated divergence. Both must start from the same state.

@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 
 #include "lava/error.h"
 
@@ -73,6 +75,18 @@ void writeFileAtomically(const std::string& path, const std::string& contents,
   if (std::rename(temporary.c_str(), path.c_str()) != 0) discard(errno);
   if (onTemporary) onTemporary(nullptr);
   syncFolder(path);
+}
+
+std::string readWholeFile(const std::string& path, const std::string& what) {
+  struct stat info {};
+  const std::string name = path.empty() ? what : path;
+  if (path.empty() || stat(path.c_str(), &info) != 0)
+    throw InvalidArgument(name, "cannot read " + what + ": " +
+                                    std::strerror(path.empty() ? ENOENT : errno));
+  if (S_ISDIR(info.st_mode)) throw InvalidArgument(path, "is a folder, not " + what);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InvalidArgument(path, "cannot read " + what + ": " + std::strerror(errno));
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
 }  // namespace lava::common

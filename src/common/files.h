@@ -15,4 +15,9 @@ namespace lava::common {
 void writeFileAtomically(const std::string& path, const std::string& contents,
                          void (*onTemporary)(const char* temporary) = nullptr);
 
+// The whole of the file at `path`. A folder, or a file that cannot be read, is a
+// lava::InvalidArgument naming the path: "is a folder, not <what>" or "cannot read <what>:
+// <reason>" (`what`: "a scene file", say).
+std::string readWholeFile(const std::string& path, const std::string& what);
+
 }  // namespace lava::common

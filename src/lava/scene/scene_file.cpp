@@ -3,11 +3,10 @@
 #define TOML_HEADER_ONLY 1
 #include <toml++/toml.h>
 
-#include <sys/stat.h>
-
 #include <fstream>
 #include <sstream>
 
+#include "common/files.h"
 #include "keys.h"
 #include "lava/error.h"
 #include "lava/scene.h"
@@ -140,15 +139,7 @@ Scene parseScene(const std::string& text, const std::string& file, const OtherKe
 }
 
 Scene loadScene(const std::string& path, const OtherKey& other) {
-  struct stat info {};
-  if (path.empty() || stat(path.c_str(), &info) != 0)
-    throw InvalidArgument(path.empty() ? "scene" : path, "cannot read the scene file");
-  if (S_ISDIR(info.st_mode)) throw InvalidArgument(path, "is a folder, not a scene file");
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw InvalidArgument(path, "cannot read the scene file");
-  std::stringstream contents;
-  contents << file.rdbuf();
-  return parseScene(contents.str(), path, other);
+  return parseScene(common::readWholeFile(path, "a scene file"), path, other);
 }
 
 std::string toToml(const Scene& scene) {

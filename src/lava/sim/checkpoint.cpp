@@ -2,8 +2,6 @@
 // members written and read here, with nothing but the C++ library.
 #include "lava/checkpoint.h"
 
-#include <sys/stat.h>
-
 #include <array>
 #include <cctype>
 #include <initializer_list>
@@ -383,14 +381,7 @@ Snapshot parseCheckpoint(const std::string& bytes, const std::string& name) {
 }
 
 Snapshot readCheckpoint(const std::string& path) {
-  struct stat info {};
-  if (stat(path.c_str(), &info) != 0)
-    throw InvalidArgument(path, std::string("cannot read: ") + std::strerror(errno));
-  if (S_ISDIR(info.st_mode)) throw InvalidArgument(path, "is a folder, not a checkpoint");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InvalidArgument(path, std::string("cannot read: ") + std::strerror(errno));
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return parseCheckpoint(bytes, path);
+  return parseCheckpoint(common::readWholeFile(path, "a checkpoint"), path);
 }
 
 }  // namespace lava
