@@ -107,7 +107,9 @@ struct ParticleChunk {
 //   ... draw with LineRenderer, submit, present ...
 //
 // `frame` in [0, framesInFlight) names per-frame resources: update(frame) may be called
-// once the host's previous submission that used `frame` has finished.
+// once the host's previous submission that used `frame` has finished. Pass the index of
+// the host's fence that guards the frame (its frame in flight), not the swapchain image's:
+// drivers hand out images in any order, and lavapipe always the same one.
 // Thread safety: one thread at a time per object (const calls from any thread while no
 // other call runs); distinct objects on one Device on distinct threads, except the
 // blocking helpers (see Device).
