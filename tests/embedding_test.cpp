@@ -4,6 +4,7 @@
 // host image of a format Lava was not written for.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <memory>
 #include <mutex>
@@ -25,9 +26,11 @@ namespace {
 // messenger of the host's own.
 class HostDevice {
  public:
-  HostDevice() {
+  // `apiVersion`: the host's Vulkan version (VkApplicationInfo): on 1.2 dynamic rendering is
+  // the extension, enabled because deviceRequirements() says so.
+  explicit HostDevice(uint32_t apiVersion = VK_API_VERSION_1_3) {
     VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-    app.apiVersion = VK_API_VERSION_1_3;
+    app.apiVersion = apiVersion;
     const char* layer = "VK_LAYER_KHRONOS_validation";
     const char* extension = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
     VkDebugUtilsMessengerCreateInfoEXT debug{
@@ -64,7 +67,8 @@ class HostDevice {
     vkEnumeratePhysicalDevices(handles.instance, &count, &handles.physicalDevice);
     VkPhysicalDeviceProperties properties;
     vkGetPhysicalDeviceProperties(handles.physicalDevice, &properties);
-    const DeviceRequirements needs = deviceRequirements(properties.apiVersion);
+    const DeviceRequirements needs =
+        deviceRequirements(std::min(apiVersion, properties.apiVersion));
     VkPhysicalDeviceDynamicRenderingFeatures dynamic{
         VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DYNAMIC_RENDERING_FEATURES};
     dynamic.dynamicRendering = VK_TRUE;
@@ -287,8 +291,18 @@ uint32_t hostMemoryType(VkPhysicalDevice physical, uint32_t bits, VkMemoryProper
 // command buffers, and Lava never submits or waits. What it recorded is right: the host's
 // own read-back of the particles equals the CPU reference bit for bit (the particles'
 // initial state, too, was recorded, not uploaded).
-TEST(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
-  HostDevice host;
+class EmbeddingRecordOnly : public ::testing::TestWithParam<uint32_t> {};
+
+TEST_P(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
+  HostDevice host(GetParam());
+  // Vulkan 1.3's vkCmdBeginRendering, or the extension's on a 1.2 host.
+  const bool core = GetParam() >= VK_API_VERSION_1_3;
+  const auto beginRendering = reinterpret_cast<PFN_vkCmdBeginRendering>(vkGetDeviceProcAddr(
+      host.handles.device, core ? "vkCmdBeginRendering" : "vkCmdBeginRenderingKHR"));
+  const auto endRendering = reinterpret_cast<PFN_vkCmdEndRendering>(vkGetDeviceProcAddr(
+      host.handles.device, core ? "vkCmdEndRendering" : "vkCmdEndRenderingKHR"));
+  ASSERT_NE(beginRendering, nullptr);
+  ASSERT_NE(endRendering, nullptr);
   lavaCalls = LavaCalls{};
   DeviceHandles handles = host.handles;
   handles.getInstanceProcAddr = countedGetInstanceProcAddr;
@@ -405,9 +419,9 @@ TEST(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
       rendering.layerCount = 1;
       rendering.colorAttachmentCount = 1;
       rendering.pColorAttachments = &color;
-      vkCmdBeginRendering(commands, &rendering);
+      beginRendering(commands, &rendering);
       lines.recordDraw(commands, slot, gpu, view);
-      vkCmdEndRendering(commands);
+      endRendering(commands);
       frames.submit(host.handles.queue, slot);
     }
     vkDeviceWaitIdle(vkDevice);
@@ -447,6 +461,13 @@ TEST(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
   EXPECT_GT(lavaCalls.fenceWaits, 0);
   for (const std::string& m : host.messages) ADD_FAILURE() << "validation: " << m;
 }
+
+// Vulkan 1.3, and a host of Vulkan 1.2 with dynamic rendering as an extension.
+INSTANTIATE_TEST_SUITE_P(HostVersions, EmbeddingRecordOnly,
+                         ::testing::Values(VK_API_VERSION_1_3, VK_API_VERSION_1_2),
+                         [](const ::testing::TestParamInfo<uint32_t>& version) {
+                           return version.param >= VK_API_VERSION_1_3 ? "Vulkan13" : "Vulkan12";
+                         });
 
 // Two simulations on one borrowed device, each built and recorded on a thread of its own
 // into the host's command buffers (the host serialises its queue submissions, as Vulkan
