@@ -124,6 +124,9 @@ TEST(Simd, EveryInstructionSetOfThisCpuGivesTheReferenceBytes) {
   }
   EXPECT_EQ(cpuSimdTarget().rfind(targets.front() + " (", 0), 0u) << cpuSimdTarget();
   EXPECT_EQ(CpuSimulation(all, 1, CpuKernel::Simd).simdTarget(), cpuSimdTarget());
+  EXPECT_EQ(cpuSimdTarget(targets.back()),
+            CpuSimulation(all, 1, CpuKernel::Simd, targets.back()).simdTarget());
+  EXPECT_THROW(cpuSimdTarget("MMX"), InvalidArgument);
   try {
     CpuSimulation bad(all, 1, CpuKernel::Simd, "MMX");
     ADD_FAILURE() << "MMX accepted";

@@ -44,9 +44,10 @@ enum class CpuKernel {
   Simd,       // cpu-simd: the same operations on SIMD lanes (the widest the CPU runs)
 };
 
-// The instruction set CpuKernel::Simd uses on this CPU unless a simulation names another:
-// the best, "AVX3 (512-bit, 16 lanes)".
-LAVA_API std::string cpuSimdTarget();
+// The instruction set named `target` (one of cpuSimdTargets()) on this CPU, in words:
+// "AVX2 (256-bit, 8 lanes)"; "" names the best, which CpuKernel::Simd uses unless a
+// simulation names another. InvalidArgument naming "simd-target" for another name.
+LAVA_API std::string cpuSimdTarget(const std::string& target = "");
 // The instruction sets it can use here (compiled in and run by this CPU), best first:
 // "AVX3", "AVX2", "SSE4", ... Every one computes the same bytes. A simulation chooses one
 // (CpuSimulation's simdTarget); Lava dispatches to it itself, so Highway's own target

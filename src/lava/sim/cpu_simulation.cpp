@@ -19,8 +19,8 @@ constexpr uint64_t kScheduleBatch = 4096;  // steps whose emission is planned at
 
 }  // namespace
 
-std::string cpuSimdTarget() {
-  return detail::simdTarget(0);
+std::string cpuSimdTarget(const std::string& target) {
+  return detail::simdTarget(detail::simdTargetNamed(target));
 }
 
 std::vector<std::string> cpuSimdTargets() {
