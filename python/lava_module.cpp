@@ -27,12 +27,12 @@ namespace {
 // Keys of the `lava` program's own options a scene file may hold for it: passed over here,
 // as each command passes over the others'.
 const std::set<std::string> kProgramKeys = {
-    "steps",      "every",    "tolerance-ulp", "backend", "threads",
-    "out",        "csv",      "frames",        "fps",     "size",
-    "warmup",     "renderer", "video",         "present", "headless",
-    "vsync",      "exercise", "device",        "sizes",   "steps-per-dispatch",
-    "backends",   "json",     "integrators",   "dts",     "seconds",
-    "energy-csv", "suite",    "junit",         "results", "baseline",
+    "steps",      "every",    "tolerance-ulp", "backend",    "threads",
+    "out",        "csv",      "frames",        "fps",        "size",
+    "warmup",     "renderer", "video",         "present",    "headless",
+    "vsync",      "device",   "sizes",         "steps-per-dispatch",
+    "backends",   "json",     "integrators",   "dts",        "seconds",
+    "energy-csv", "suite",    "junit",         "results",    "baseline",
     "record",     "against"};
 
 // One device per index for the life of the module (a Vulkan instance is costly to make).

@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # The demo in a real window under Xvfb on lavapipe, validation and synchronization
-# validation on (any message makes lava exit 1):
-# 1. each line renderer and each presentation path for 400 frames with resizes, a minimise
-#    and a restore (--exercise);
+# validation on (any message makes lava exit 1), driven from outside as a user would with
+# xdotool, and judged by what the X server shows:
+# 1. each line renderer and each presentation path through resizes (down to 1x1), a
+#    minimise and a restore, under a window manager (twm: iconifying needs one), drawing
+#    again at its size afterwards;
 # 2. without MIT-SHM on the server: the swapchain is chosen, and --present shm is refused;
 #    on a 16-bit display, which no path can present to, the demo renders headless;
-# 3. the keyboard: P (screenshot), Space (pause), N (step), R (reset), H (hide the panel)
-#    and Esc (quit), typed with xdotool into the focused window; the screenshot must appear;
-#    then one Esc tap while frames are slow (a tap shorter than a frame must not be lost).
+# 3. the keyboard: H (hide the panel), Space (pause), N (step), R (reset), P (screenshot)
+#    and Esc (quit), one tap each, each seen to take effect in the window's pixels; then
+#    one Esc tap while frames are slow (a tap shorter than a frame must not be lost).
 set -u
 lava=$1
 fault_layer=$2  # the folder of VK_LAYER_LAVA_fault's manifest
@@ -19,16 +21,113 @@ summary() {  # the demo's own summary line, or fail
   echo "$1" | grep -q 'rendering headless' && { echo "FAIL: no window was opened"; exit 1; }
 }
 
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+# xwd.py CHECK FILES: judges XWD dumps (24-bit TrueColor) of the Lava window.
+cat > "$work/xwd.py" <<'XWD'
+import struct, sys
+def pixels(path):  # (width, height, rows of (r, g, b))
+    data = open(path, "rb").read()
+    header = struct.unpack(">25I", data[:100])
+    size, width, height, pitch, colors = header[0], header[4], header[5], header[12], header[19]
+    first = size + 12 * colors
+    return width, height, [tuple(data[first + y * pitch + 4 * x + 2 - c] for c in range(3))
+                           for y in range(height) for x in range(width)]
+def lit(path):  # pixels of hot particles: bright red and orange
+    return sum(1 for r, g, b in pixels(path)[2] if r > 200 and g > 100)
+def changed(a, b):
+    return sum(1 for p, q in zip(pixels(a)[2], pixels(b)[2]) if p != q)
+check, files = sys.argv[1], sys.argv[2:]
+if check == "drawn":  # the window shows the volcano and its particles
+    n = lit(files[0])
+    print("restored window: %d lit pixels" % n)
+    if n < 200: sys.exit("FAIL: the restored window shows no particles")
+elif check == "keys":
+    def same(a, b): return changed(a + ".xwd", b + ".xwd") == 0
+    print("lit pixels: stepped %d, reset %d" % (lit("stepped2.xwd"), lit("reset1.xwd")))
+    if same("running1", "running2"): sys.exit("FAIL: the frames do not change while running")
+    if not same("paused1", "paused2"): sys.exit("FAIL: Space did not pause")
+    if same("paused2", "stepped1"): sys.exit("FAIL: N did not step")
+    if not same("stepped1", "stepped2"): sys.exit("FAIL: N did not stay paused after its step")
+    if not lit("reset1.xwd") * 4 < lit("stepped2.xwd"): sys.exit("FAIL: R did not reset")
+    if not same("reset1", "reset2"): sys.exit("FAIL: R did not stay paused")
+    if same("resumed1", "resumed2"): sys.exit("FAIL: Space did not resume")
+elif check == "panel":  # in the panel's rectangle: background pixels and bright (text) ones
+    def counts(path):
+        w, h, rows = pixels(path)
+        background = bright = total = 0
+        for y in range(30, 200, 2):
+            for x in range(14, 380, 2):
+                p = rows[y * w + x]
+                total += 1
+                background += p == (15, 15, 15)
+                bright += min(p) > 150
+        return background / total, bright
+    shown, hidden = counts("shown.xwd"), counts("hidden.xwd")
+    print("panel shown: %.0f%% background, %d bright; hidden: %.0f%% background, %d bright"
+          % (100 * shown[0], shown[1], 100 * hidden[0], hidden[1]))
+    if not (shown[0] > 0.5 and shown[1] > 100): sys.exit("FAIL: the panel is not in the window")
+    if not (hidden[0] < 0.05): sys.exit("FAIL: the panel stayed after H")
+XWD
+
+# drive NAME "DEMO ARGS" 'KEYS' [twm]: under Xvfb (with twm as the window manager when
+# asked), starts lava demo with DEMO ARGS (its output in $work/NAME.txt), focuses its
+# window ($window), runs the xdotool commands KEYS (a shell snippet, run in $work) and
+# waits for lava to exit; returns lava's exit status.
+drive() {
+  cat > "$work/$1.sh" <<DRIVE
+cd "$work"
+if [ "${4:-}" = twm ]; then LC_ALL=C twm -f "$work/twmrc" > /dev/null 2>&1 & sleep 1; fi
+timeout 120 "$lava" demo $2 > $1.txt 2>&1 &
+pid=\$!
+window=\$(timeout 60 xdotool search --sync --name '^Lava\$' 2>/dev/null | head -1)
+if [ -z "\$window" ]; then echo "no Lava window appeared" >> $1.txt; kill \$pid; exit 1; fi
+xdotool windowfocus --sync "\$window"
+$3
+wait \$pid
+DRIVE
+  xvfb-run -a -s "$screen" bash "$work/$1.sh"
+}
+# twm: no title bars, windows placed without asking, fonts any X server has.
+printf '%s\n' RandomPlacement NoTitle 'TitleFont "fixed"' 'ResizeFont "fixed"' \
+  'MenuFont "fixed"' 'IconFont "fixed"' 'IconManagerFont "fixed"' > "$work/twmrc"
+
+# The window managed: smaller, 1x1, minimised (the window manager says Iconic, and the
+# demo, drawing nothing, takes a fraction of the CPU time it took shown), restored and back
+# to its size, drawing.
 for run in "lines swapchain mailbox" "splat shm MIT-SHM"; do
   set -- $run
-  out=$(xvfb-run -a -s "$screen" "$lava" demo --frames 400 --size 800x450 \
-        --exercise --renderer "$1" --present "$2" --particles 20000 --rate 4000 2>&1)
+  drive "wm-$1" "--size 800x450 --renderer $1 --present $2 --particles 20000 --rate 4000" '
+demo=$(pgrep -P $pid)  # lava, under timeout
+cpu() { awk "{ print \$14 + \$15 }" /proc/$demo/stat; }  # its CPU time, in ticks
+busy() { a=$(cpu); sleep 1; echo $(($(cpu) - a)) > "$1"; }
+sleep 1
+for size in "600 338" "400 150"; do xdotool windowsize "$window" $size; sleep 0.5; done
+busy cpu-shown.txt
+xdotool windowsize "$window" 1 1; sleep 0.5
+xdotool windowminimize --sync "$window"; sleep 0.5
+xprop -id "$window" WM_STATE | grep "window state" > state-minimised.txt
+busy cpu-minimised.txt
+xdotool windowmap --sync "$window"; sleep 0.5
+xprop -id "$window" WM_STATE | grep "window state" > state-restored.txt
+xdotool windowsize "$window" 800 450; sleep 1
+xwd -id "$window" -silent > restored.xwd
+xdotool windowfocus --sync "$window"; xdotool key Escape' twm
   status=$?
+  out=$(cat "$work/wm-$1.txt")
   echo "$1, $2: $out"
   [ $status -eq 0 ] || { echo "FAIL: lava demo --renderer $1 --present $2 exited $status"; exit 1; }
-  summary "$out" 400
-  echo "$out" | grep -q ", $3; GPU" || { echo "FAIL: not presented by $3"; exit 1; }
+  summary "$out" '[0-9]+'
+  echo "$out" | grep -q "(800x450, 20000 particles, .*, $3; GPU" ||
+    { echo "FAIL: not presented by $3 at 800x450 at the end"; exit 1; }
+  grep -q Iconic "$work/state-minimised.txt" || { echo "FAIL: the window was not minimised"; exit 1; }
+  grep -q Normal "$work/state-restored.txt" || { echo "FAIL: the window was not restored"; exit 1; }
+  shown=$(cat "$work/cpu-shown.txt") minimised=$(cat "$work/cpu-minimised.txt")
+  echo "CPU ticks in 1 s: shown $shown, minimised $minimised"
+  [ $((4 * minimised)) -lt "$shown" ] || { echo "FAIL: the demo kept drawing while minimised"; exit 1; }
+  python3 "$work/xwd.py" drawn "$work/restored.xwd" || exit 1
 done
+
 
 # The panel's GPU times come from timestamps each frame copies into memory the host reads
 # after the frame's fence: no vkGetQueryPoolResults per frame (lavapipe drains the queue
@@ -89,9 +188,6 @@ echo "no MIT-SHM, --present shm: $out"
 [ "$(echo "$out" | wc -l)" -eq 1 ] && echo "$out" | grep -q -- "--present" ||
   { echo "FAIL: expected one line naming --present"; exit 1; }
 
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-
 # A 16-bit display, which the driver cannot present to: headless frames, saying why.
 out=$(xvfb-run -a -s "-screen 0 640x360x16" "$lava" demo --frames 2 --size 160x90 \
       --out "$work/depth16" 2>&1)
@@ -101,27 +197,19 @@ echo "16-bit display: $out"
 echo "$out" | grep -q 'depth 24); rendering headless instead' ||
   { echo "FAIL: no reason given for rendering headless"; exit 1; }
 [ -s "$work/depth16/frame_00001.png" ] || { echo "FAIL: no headless frames"; exit 1; }
-# drive NAME "DEMO ARGS" 'KEYS': under Xvfb, starts lava demo with DEMO ARGS (its output in
-# $work/NAME.txt), focuses its window, runs the xdotool commands KEYS (a shell snippet,
-# run in $work) and waits for lava to exit; returns lava's exit status.
-drive() {
-  cat > "$work/$1.sh" <<DRIVE
-cd "$work"
-timeout 120 "$lava" demo $2 > $1.txt 2>&1 &
-pid=\$!
-window=\$(timeout 60 xdotool search --sync --name '^Lava\$' 2>/dev/null | head -1)
-if [ -z "\$window" ]; then echo "no Lava window appeared" >> $1.txt; kill \$pid; exit 1; fi
-xdotool windowfocus --sync "\$window"
-$3
-wait \$pid
-DRIVE
-  xvfb-run -a -s "$screen" bash "$work/$1.sh"
-}
-
-# Each key once (Space twice), one tap each, no retries: the demo counts what took effect.
+# Each key once (Space twice), one tap each, no retries, each judged by the window's
+# pixels: running frames differ; paused ones do not; N steps once and stays paused; R
+# empties the volcano (nothing emitted yet); P writes the screenshot; Space resumes.
 drive keys "--size 640x360" '
-sleep 0.5
-for key in p space n r space h Escape; do xdotool key "$key"; sleep 0.2; done'
+cap() { xwd -id "$window" -silent > $1.xwd; }
+sleep 1; xdotool key h; sleep 0.5
+cap running1; sleep 0.5; cap running2
+xdotool key space; sleep 0.5; cap paused1; sleep 0.5; cap paused2
+xdotool key n; sleep 0.5; cap stepped1; sleep 0.5; cap stepped2
+xdotool key r; sleep 0.5; cap reset1; sleep 0.5; cap reset2
+xdotool key p; sleep 0.5
+xdotool key space; sleep 0.5; cap resumed1; sleep 0.5; cap resumed2
+xdotool key Escape'
 status=$?
 out=$(cat "$work/keys.txt")
 echo "keys: $out"
@@ -129,46 +217,22 @@ echo "keys: $out"
 summary "$out" '[0-9]+'
 [ -s "$work/lava-screenshot-000.png" ] || { echo "FAIL: P saved no screenshot"; exit 1; }
 echo "$out" | grep -q 'saved lava-screenshot-000.png' || { echo "FAIL: no screenshot message"; exit 1; }
-echo "$out" | grep -q 'keys took effect: pause 2, step 1, reset 1, panel 1, screenshot 1' ||
-  { echo "FAIL: a key did not take effect exactly once"; exit 1; }
+(cd "$work" && python3 xwd.py keys) || exit 1
 
 # The panel (drawn into an image of its own when it changes, copied over each frame): in
 # the window, at its place, opaque (ImGui's window background, 15,15,15, behind its text);
-# gone once H hides it. Read from the X server's screen, as a user sees it.
+# gone once H hides it. Read from the X server, as a user sees it.
 drive panel "--size 640x360 --warmup 3" '
 sleep 1.5
-xwd -root -silent > shown.xwd
+xwd -id "$window" -silent > shown.xwd
 xdotool key h
 sleep 0.5
-xwd -root -silent > hidden.xwd
+xwd -id "$window" -silent > hidden.xwd
 xdotool key Escape'
 status=$?
 echo "panel: $(cat "$work/panel.txt")"
 [ $status -eq 0 ] || { echo "FAIL: lava demo for the panel exited $status"; exit 1; }
-python3 - "$work/shown.xwd" "$work/hidden.xwd" <<'CHECK' || exit 1
-import struct, sys
-def pixels(path):  # an XWD dump of the root window, 24-bit TrueColor: (w, h, rows)
-    data = open(path, "rb").read()
-    header = struct.unpack(">25I", data[:100])
-    size, width, height, pitch, colors = header[0], header[4], header[5], header[12], header[19]
-    first = size + 12 * colors
-    return width, height, lambda x, y: tuple(data[first + y * pitch + 4 * x + 2 - c] for c in range(3))
-def counts(path):  # within the panel's rectangle: background pixels and bright (text) ones
-    w, h, at = pixels(path)
-    background = bright = total = 0
-    for y in range(30, 200, 2):
-        for x in range(14, 380, 2):
-            p = at(x, y)
-            total += 1
-            background += p == (15, 15, 15)
-            bright += min(p) > 150
-    return background / total, bright
-shown, hidden = counts(sys.argv[1]), counts(sys.argv[2])
-print("panel shown: %.0f%% background, %d bright; hidden: %.0f%% background, %d bright"
-      % (100 * shown[0], shown[1], 100 * hidden[0], hidden[1]))
-if not (shown[0] > 0.5 and shown[1] > 100): sys.exit("FAIL: the panel is not in the window")
-if not (hidden[0] < 0.05): sys.exit("FAIL: the panel stayed after H")
-CHECK
+(cd "$work" && python3 xwd.py panel) || exit 1
 
 # One tap of Esc while frames are slow (262,144 lines through the graphics pipeline, over
 # 100 ms each on lavapipe): pressed and released within one frame, it must still quit.

@@ -11,7 +11,7 @@ packages=(
   libglfw3-dev libx11-dev libxext-dev libglm-dev libgtest-dev
   libcli11-dev libtomlplusplus-dev libstb-dev libimgui-dev libhwy-dev
   python3 python3-dev pybind11-dev python3-numpy python3-pytest
-  xvfb xauth xdotool x11-apps
+  xvfb xauth xdotool x11-apps x11-utils twm procps
 )
 
 missing=()

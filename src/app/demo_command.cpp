@@ -77,9 +77,6 @@ class DemoCommand final : public Command {
                  [this](const std::string& src, const std::string& t) {
                    demo_.present = window::parsePresentPath(src, t);
                  });
-    options_.addFlag("exercise",
-                     "resize, minimise and restore the window on a schedule (for tests)",
-                     demo_.exercise);
     options_.add(
         "out", "folder for headless frames [lava-demo-frames]",
         [this](const std::string& src, const std::string& t) { out_ = outputFolder(src, t); });
@@ -106,12 +103,6 @@ class DemoCommand final : public Command {
             s.device.c_str(), s.presentMode.c_str(), s.simulateMs, s.drawMs,
             s.frames ? 1e3 * s.cpuSeconds / s.frames : 0.0);
         sayThreads(threads, s.device);
-        if (s.effects.any())
-          std::printf(
-              "demo: keys took effect: pause %u, step %u, reset %u, panel %u, "
-              "screenshot %u\n",
-              s.effects.pauses, s.effects.steps, s.effects.resets, s.effects.panelToggles,
-              s.effects.screenshots);
         return s.validationMessages ? 1 : 0;
       } catch (const window::NoDisplay& e) {
         std::printf("demo: %s; rendering headless instead\n", e.what());

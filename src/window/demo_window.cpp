@@ -17,15 +17,16 @@
 #include <cstdlib>
 #include <memory>
 #include <optional>
-#include <vector>
+#include <utility>
 
 #include "common/steps.h"
+#include "demo_input.h"
+#include "demo_panel.h"
 #include "frame_timer.h"
 #include "host/frame_renderer.h"
 #include "host/offscreen.h"
 #include "host/output.h"
 #include "lava/lava.h"
-#include "scene_panel.h"
 #include "shm_presenter.h"
 #include "swapchain.h"
 #include "ui.h"
@@ -165,19 +166,8 @@ class Demo {
     renderer_.setSettings(options.look);
     simulation_->advance(scene_.stepsIn(options.warmup));
     simulatedSeconds_ = double(scene_.stepsIn(options.warmup)) * double(scene_.h());
-    glfwSetWindowUserPointer(window_.handle, this);
-    // Key presses are queued as they arrive (Dear ImGui, set up next, chains to this):
-    // ImGui 1.86 keeps only whether a key is down when a frame starts, so a tap pressed and
-    // released within one slow frame would be lost.
-    glfwSetKeyCallback(window_.handle, [](GLFWwindow* w, int key, int, int action, int) {
-      if (action == GLFW_PRESS)
-        static_cast<Demo*>(glfwGetWindowUserPointer(w))->pressed_.push_back(key);
-    });
     ui_ = std::make_unique<Ui>(device_, window_.handle, format_.format, presenter_->imageCount());
     createFrameSlots();
-    glfwSetFramebufferSizeCallback(window_.handle, [](GLFWwindow* w, int, int) {
-      static_cast<Demo*>(glfwGetWindowUserPointer(w))->resized_ = true;
-    });
   }
 
   ~Demo() { vkDeviceWaitIdle(device_.handles().device); }
@@ -188,9 +178,8 @@ class Demo {
     lastTimed_ = glfwGetTime();
     auto last = start;
     uint32_t presented = 0;
-    for (uint64_t iteration = 0; !glfwWindowShouldClose(window_.handle); ++iteration) {
+    while (!glfwWindowShouldClose(window_.handle)) {
       glfwPollEvents();
-      if (options_.exercise) exercise(iteration);
       const auto now = std::chrono::steady_clock::now();
       const double frameSeconds = std::chrono::duration<double>(now - last).count();
       last = now;
@@ -216,7 +205,6 @@ class Demo {
     summary.device = device_.properties().deviceName;
     summary.presentMode = presenter_->name();
     summary.simulateMs = simulateMs_;
-    summary.effects = effects_;
     summary.drawMs = drawMs_;
     for (const std::string& m : device_.takeValidationMessages()) {
       std::fprintf(stderr, "lava: validation: %s\n", m.c_str());
@@ -227,7 +215,6 @@ class Demo {
 
  private:
   VkExtent2D framebufferSize() const {
-    if (minimisedByExercise_) return {0, 0};
     int w = 0, h = 0;
     glfwGetFramebufferSize(window_.handle, &w, &h);
     return {uint32_t(std::max(w, 0)), uint32_t(std::max(h, 0))};
@@ -262,36 +249,6 @@ class Demo {
     }
   }
 
-  // Resizes, minimises and restores on a schedule of loop iterations (for tests).
-  void exercise(uint64_t iteration) {
-    const int w = int(options_.size.width), h = int(options_.size.height);
-    switch (iteration) {
-      case 60:
-        glfwSetWindowSize(window_.handle, w * 3 / 4, h * 3 / 4);
-        break;
-      case 120:
-        glfwSetWindowSize(window_.handle, w / 2, h / 3);
-        break;
-      case 180:
-        // Without a window manager (bare Xvfb) iconifying changes nothing, so the exercise
-        // also reports the 0x0 framebuffer a minimised window has on other systems.
-        glfwIconifyWindow(window_.handle);
-        minimisedByExercise_ = true;
-        resized_ = true;
-        break;
-      case 200:
-        glfwRestoreWindow(window_.handle);
-        minimisedByExercise_ = false;
-        resized_ = true;
-        break;
-      case 240:
-        glfwSetWindowSize(window_.handle, w, h);
-        break;
-      default:
-        break;
-    }
-  }
-
   // The GPU times smoothed over the timed frames (about ten a second), the first taken as is.
   void readTimings(uint32_t index) {
     if (const std::optional<FrameTimes> t = timer_.read(index)) {
@@ -304,119 +261,11 @@ class Demo {
   // Steps owed for this frame: a fixed h decoupled from the frame rate (at most 0.1 s of
   // simulated time per frame, so a stall does not snowball).
   uint32_t stepsFor(double frameSeconds) {
-    if (stepOnce_) {
-      stepOnce_ = false;
-      ++effects_.steps;
-      return 1;
-    }
-    if (paused_) return 0;
-    const uint64_t steps = owed_.take(std::min(frameSeconds, 0.1) * speed_ / double(scene_.h()));
+    if (std::exchange(controls_.stepOnce, false)) return 1;
+    if (controls_.paused) return 0;
+    const uint64_t steps =
+        owed_.take(std::min(frameSeconds, 0.1) * controls_.speed / double(scene_.h()));
     return static_cast<uint32_t>(std::min<uint64_t>(steps, kStepsPerFrameMax));
-  }
-
-  void handleInput() {
-    ImGuiIO& io = ImGui::GetIO();
-    for (const int key : pressed_) {
-      if (io.WantCaptureKeyboard) break;  // typed into the panel
-      switch (key) {
-        case GLFW_KEY_SPACE:
-          paused_ = !paused_;
-          ++effects_.pauses;
-          break;
-        case GLFW_KEY_N:
-          stepOnce_ = true;
-          break;
-        case GLFW_KEY_R:
-          reset_ = true;
-          break;
-        case GLFW_KEY_P:
-          screenshot_ = true;
-          break;
-        case GLFW_KEY_H:
-          showUi_ = !showUi_;
-          ++effects_.panelToggles;
-          break;
-        case GLFW_KEY_ESCAPE:
-          glfwSetWindowShouldClose(window_.handle, 1);
-          break;
-        default:
-          break;
-      }
-    }
-    pressed_.clear();
-    if (!io.WantCaptureMouse) {
-      if (ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
-        camera_.yaw -= io.MouseDelta.x * 0.006f;
-        camera_.pitch = std::clamp(camera_.pitch + io.MouseDelta.y * 0.006f, -0.05f, 1.5f);
-      }
-      if (ImGui::IsMouseDragging(ImGuiMouseButton_Right))
-        camera_.target.y += io.MouseDelta.y * 0.01f;
-      camera_.distance = std::clamp(camera_.distance * std::pow(0.9f, io.MouseWheel), 0.5f, 60.0f);
-    }
-  }
-
-  void buildUi() {
-    if (!showUi_) return;
-    // The figures are refreshed four times a second: readable, and a panel that did not
-    // change is not drawn again (Ui::record copies the one it drew).
-    const double now = glfwGetTime();
-    if (now - shown_.at >= 0.25 || now < shown_.at) {
-      shown_ = {now, fps_, simulateMs_, drawMs_, simulatedSeconds_, alive()};
-    }
-    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-    ImGui::Begin("Lava", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
-    ImGui::Text("%s", device_.properties().deviceName);
-    ImGui::Text("%.1f fps   GPU: simulate %.2f ms, draw %.2f ms", shown_.fps, shown_.simulateMs,
-                shown_.drawMs);
-    ImGui::Text("alive %llu / %llu   t = %.2f s", static_cast<unsigned long long>(shown_.alive),
-                static_cast<unsigned long long>(scene_.particles()), shown_.seconds);
-    ImGui::Checkbox("pause [Space]", &paused_);
-    ImGui::SameLine();
-    if (ImGui::Button("step [N]")) stepOnce_ = true;
-    ImGui::SameLine();
-    if (ImGui::Button("reset [R]")) reset_ = true;
-    ImGui::SameLine();
-    if (ImGui::Button("screenshot [P]")) screenshot_ = true;
-    ImGui::SliderFloat("speed", &speed_, 0.0f, 4.0f);
-    bool splat = renderer_.lineMode() == LineMode::Splat;
-    if (ImGui::Checkbox("compute line splatting (off: graphics pipeline)", &splat))
-      renderer_.setLineMode(splat ? LineMode::Splat : LineMode::Lines);
-    bool lava = renderer_.style() == LookStyle::Lava;
-    if (ImGui::Checkbox("lava look (off: plain lines)", &lava))
-      renderer_.setStyle(lava ? LookStyle::Lava : LookStyle::Plain);
-    if (lava) {
-      LookSettings look = renderer_.settings();
-      bool changed =
-          ImGui::SliderFloat("exposure", &look.exposure, 0.05f, 16.0f, "%.2f",
-                             ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp);
-      changed |= ImGui::SliderFloat("bloom", &look.bloom, 0.0f, 4.0f, "%.2f",
-                                    ImGuiSliderFlags_AlwaysClamp);
-      if (changed) renderer_.setSettings(look);
-    }
-
-    // Closed at start: the panel is drawn every frame, and on a CPU device a short panel
-    // costs a fraction of a long one (docs/benchmarks-history.md).
-    if (ImGui::CollapsingHeader("scene")) {
-      switch (panel_.draw(scene_)) {
-        case ScenePanel::Change::Live:
-          try {
-            simulation_->setScene(panel_.edited());
-            scene_ = panel_.edited();
-            panel_.setMessage("");
-          } catch (const Error& e) {
-            panel_.setMessage(e.what());  // an invalid value: the running scene stays
-          }
-          break;
-        case ScenePanel::Change::Structure:
-          panel_.setMessage("emitters or their capacities changed: restart to apply");
-          break;
-        case ScenePanel::Change::None:
-          break;
-      }
-      if (ImGui::Button("restart with this scene")) restart_ = true;
-    }
-    ImGui::TextDisabled("drag: orbit  right-drag: height  wheel: zoom  H: hide");
-    ImGui::End();
   }
 
   // Slots born at least once (the clocks stay on the host: no read-back).
@@ -427,57 +276,71 @@ class Demo {
     return n;
   }
 
+  // The panel's figures, for this frame.
+  DemoFigures figures() const {
+    return {fps_, simulateMs_, drawMs_, simulatedSeconds_, alive()};
+  }
+
+  // Serves the controls' one-shot requests other than a step.
   void applyRequests() {
-    if (restart_ || reset_) {
-      device_.waitIdle();
-      if (restart_) {
-        try {
-          const Scene next = panel_.edited();
-          checkScene(next);
-          if (next.particles() > device_.maxParticles())
-            throw InvalidArgument(
-                "particles", "this device holds at most " + std::to_string(device_.maxParticles()));
-          simulation_.reset();
-          simulation_ = std::make_unique<GpuSimulation>(device_, next, simulationOptions());
-          scene_ = next;
-          panel_.setMessage("restarted");
-        } catch (const Error& e) {
-          panel_.setMessage(e.what());
-          if (!simulation_)
-            simulation_ = std::make_unique<GpuSimulation>(device_, scene_, simulationOptions());
+    if (controls_.restart || controls_.reset) startOver();
+    if (std::exchange(controls_.screenshot, false)) saveScreenshot();
+  }
+
+  // R: the running scene from its initial state; the panel's restart: a new simulation of
+  // the edited scene, or the running one kept with the reason shown.
+  void startOver() {
+    device_.waitIdle();
+    if (controls_.restart) {
+      try {
+        const Scene next = panel_.edited();
+        checkScene(next);
+        if (next.particles() > device_.maxParticles())
+          throw InvalidArgument(
+              "particles", "this device holds at most " + std::to_string(device_.maxParticles()));
+        simulation_.reset();
+        simulation_ = std::make_unique<GpuSimulation>(device_, next, simulationOptions());
+        scene_ = next;
+        panel_.setMessage("restarted");
+      } catch (const Error& e) {
+        panel_.setMessage(e.what());
+        if (simulation_) {  // refused before it began: the running simulation goes on
+          controls_.restart = controls_.reset = false;
+          return;
         }
-      } else {
-        simulation_->setState(initialState(scene_));
+        simulation_ = std::make_unique<GpuSimulation>(device_, scene_, simulationOptions());
       }
-      simulatedSeconds_ = 0.0;
-      if (reset_) ++effects_.resets;
-      restart_ = reset_ = false;
-      owed_.reset();
+    } else {
+      simulation_->setState(initialState(scene_));
     }
-    if (screenshot_) {
-      screenshot_ = false;
-      device_.waitIdle();
-      host::FrameRenderer offscreen(device_, host::OffscreenTarget::kColorFormat, 1,
-                                    renderer_.style());
-      offscreen.setLineMode(renderer_.lineMode());
-      offscreen.setSettings(renderer_.settings());
-      const host::OffscreenTarget target(device_, presenter_->extent());
-      const host::Submitter submitter(device_);
-      char name[64];
-      do  // the next number no file has yet: an earlier run's screenshots stay
-        std::snprintf(name, sizeof(name), "lava-screenshot-%03u.png", screenshots_++);
-      while (access(name, F_OK) == 0 && screenshots_ < 100000);
-      host::writePng(name, target.extent().width, target.extent().height,
-                     host::renderOffscreen(submitter, offscreen, *simulation_, target, camera_));
-      std::printf("demo: saved %s\n", name);
-      ++effects_.screenshots;
-    }
+    simulatedSeconds_ = 0.0;
+    controls_.restart = controls_.reset = false;
+    owed_.reset();
+  }
+
+  // P: this frame as the window shows it, offscreen, into the next free numbered PNG.
+  void saveScreenshot() {
+    device_.waitIdle();
+    host::FrameRenderer offscreen(device_, host::OffscreenTarget::kColorFormat, 1,
+                                  renderer_.style());
+    offscreen.setLineMode(renderer_.lineMode());
+    offscreen.setSettings(renderer_.settings());
+    const host::OffscreenTarget target(device_, presenter_->extent());
+    const host::Submitter submitter(device_);
+    char name[64];
+    do  // the next number no file has yet: an earlier run's screenshots stay
+      std::snprintf(name, sizeof(name), "lava-screenshot-%03u.png", screenshots_++);
+    while (access(name, F_OK) == 0 && screenshots_ < 100000);
+    host::writePng(name, target.extent().width, target.extent().height,
+                   host::renderOffscreen(submitter, offscreen, *simulation_, target, camera_));
+    std::printf("demo: saved %s\n", name);
   }
 
   // One frame: simulate, draw, present; `lastOfRun`: the last of a run of --frames N. False when
   // nothing could be drawn (minimised).
   bool drawFrame(double frameSeconds, bool lastOfRun) {
-    if (minimisedByExercise_ || glfwGetWindowAttrib(window_.handle, GLFW_ICONIFIED)) return false;
+    if (glfwGetWindowAttrib(window_.handle, GLFW_ICONIFIED)) return false;
+    resized_ |= input_.takeResized();
     if (resized_) {
       if (!presenter_->resize(framebufferSize())) return false;
       ui_->forgetTargets();
@@ -504,8 +367,9 @@ class Demo {
     ImGui_ImplVulkan_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
-    handleInput();
-    buildUi();
+    input_.apply(controls_, camera_);
+    panel_.build(device_.properties().deviceName, figures(), controls_, renderer_, *simulation_,
+                 scene_);
     ImGui::Render();
     applyRequests();
     const uint32_t steps = stepsFor(frameSeconds);
@@ -531,7 +395,7 @@ class Demo {
     simulation_->recordSimulate(commands, index);
     if (timed) timer_.recordSimulated(commands, index);
     const auto overlay = [&](VkCommandBuffer c) {
-      if (showUi_) ui_->record(c, target);
+      if (controls_.showPanel) ui_->record(c, target);
     };
     renderer_.record(commands, index, *simulation_, target, camera_, overlay);
     presenter_->recordAfterFrame(commands, index);
@@ -546,6 +410,7 @@ class Demo {
   DemoOptions options_;
   Scene scene_;
   GlfwWindow window_;
+  DemoInput input_{window_.handle};  // before Dear ImGui (ui_), which chains to its callbacks
   Device device_;
   PresentPath path_;
   Surface surface_;
@@ -560,12 +425,7 @@ class Demo {
   OrbitCamera camera_;
   uint64_t frame_ = 0;
   bool resized_ = false;
-  bool minimisedByExercise_ = false;
-  bool paused_ = false, stepOnce_ = false, reset_ = false, restart_ = false, screenshot_ = false;
-  std::vector<int> pressed_;  // GLFW keys pressed since the last frame, in order
-  DemoEffects effects_;
-  bool showUi_ = true;
-  float speed_ = 1.0f;
+  DemoControls controls_;
   common::StepAccumulator owed_;
   double simulatedSeconds_ = 0.0;  // the steps' sizes summed (h may change in the panel)
   double fps_ = 0.0, simulateMs_ = 0.0, drawMs_ = 0.0;
@@ -573,11 +433,7 @@ class Demo {
   // cached backdrop and may compile shaders).
   double lastTimed_ = 0.0;
   uint64_t timedFrames_ = 0;
-  struct Shown {  // the panel's figures, as last refreshed
-    double at = -1.0, fps = 0.0, simulateMs = 0.0, drawMs = 0.0, seconds = 0.0;
-    uint64_t alive = 0;
-  } shown_;
-  ScenePanel panel_{options_.scene};
+  DemoPanel panel_{options_.scene};
   uint32_t screenshots_ = 0;
 };
 

@@ -1,6 +1,6 @@
 // The interactive lava demo: a GLFW window presenting the program's frames through a
-// swapchain or MIT-SHM, a fixed-step simulation decoupled from the frame rate, an orbit camera, and
-// a Dear ImGui panel with every scene parameter live and GPU timings.
+// swapchain or MIT-SHM, with a fixed-step simulation decoupled from the frame rate. Its
+// frame loop is here; the keys and mouse are DemoInput's, the panel is DemoPanel's.
 #pragma once
 #include <vulkan/vulkan.h>
 
@@ -26,24 +26,12 @@ struct DemoOptions {
   uint32_t frames = 0;  // exit after this many presented frames; 0: until the window closes
   bool vsync = false;   // FIFO presentation; else mailbox or immediate when offered
   std::optional<PresentPath> present;  // unset: MIT-SHM for CPU devices on X11, else swapchain
-  bool exercise = false;  // resize, minimise and restore the window on a schedule (tests)
   LineMode lines = LineMode::Lines;
   LookStyle style = LookStyle::Lava;
   LookSettings look;
   double warmup = 0.0;  // seconds simulated before the first frame
   std::optional<unsigned> device;
   bool validation = false;
-};
-
-// What the keys and buttons did, counted where each takes effect.
-struct DemoEffects {
-  uint32_t pauses = 0;        // Space: pause toggled
-  uint32_t steps = 0;         // N: single steps taken
-  uint32_t resets = 0;        // R: the scene reset
-  uint32_t panelToggles = 0;  // H: the panel hidden or shown
-  uint32_t screenshots = 0;   // P: screenshots written
-
-  bool any() const { return pauses || steps || resets || panelToggles || screenshots; }
 };
 
 struct DemoSummary {
@@ -56,7 +44,6 @@ struct DemoSummary {
   uint32_t validationMessages = 0;
   double simulateMs = 0.0;  // GPU time per frame (smoothed timestamps) of the simulation
   double drawMs = 0.0;      // and of the draw
-  DemoEffects effects;
 };
 
 // Runs the window until closed or `frames` are presented; throws NoDisplay when there is
