@@ -159,16 +159,16 @@ TEST_P(Embedding, FramesInFlightWithChangingStepCountsMatchTheCpu) {
     Scene scene;
     scene.emitters[0].particles = 3000;
     scene.emitters[0].rate = 25000.0;  // wraps the ring several times per second
+    device.setFramesInFlight(3);
     GpuSimulationOptions options;
-    options.framesInFlight = 3;
     options.maxStepsPerFrame = 64;
     options.stepsPerDispatch = GetParam();
     GpuSimulation gpu(device, scene, options);
     CpuSimulation cpu(scene);
-    HostFrames frames(host.handles.device, options.framesInFlight);
+    HostFrames frames(host.handles.device, device.framesInFlight());
     uint64_t steps = 0;
     for (uint32_t frame = 0; frame < 60; ++frame) {
-      const uint32_t slot = frame % options.framesInFlight;
+      const uint32_t slot = frame % device.framesInFlight();
       const uint32_t count = (frame * 7) % 23;  // 0 some frames, up to 22
       VkCommandBuffer commands = frames.begin(slot);
       gpu.update(slot, count);
@@ -287,8 +287,9 @@ uint32_t hostMemoryType(VkPhysicalDevice physical, uint32_t bits, VkMemoryProper
 }
 
 // A host that only records: from Lava's device to its destruction, frames of simulation and
-// drawing (both renderers, the lava look with its glow, a resize) through the host's own
-// command buffers, and Lava never submits or waits. What it recorded is right: the host's
+// drawing (both renderers, the lava look with its glow, a resize that also rebuilds the
+// host's frames with one more in flight) through the host's own command buffers, and Lava
+// never submits or waits. What it recorded is right: the host's
 // own read-back of the particles equals the CPU reference bit for bit (the particles'
 // initial state, too, was recorded, not uploaded).
 class EmbeddingRecordOnly : public ::testing::TestWithParam<uint32_t> {};
@@ -311,15 +312,13 @@ TEST_P(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
   Scene scene;
   scene.emitters[0].particles = 4096;
   scene.emitters[0].rate = 20000.0;
-  constexpr uint32_t kFrames = 24, kSlots = 2, kSteps = 17;
+  constexpr uint32_t kFrames = 24, kSteps = 17;
   std::vector<Particle> readBack;
   {
     Device device(handles);
-    GpuSimulationOptions options;
-    options.framesInFlight = kSlots;
-    GpuSimulation gpu(device, scene, options);
-    LineRenderer lines(device, {VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_UNDEFINED}, kSlots);
-    HostFrames frames(vkDevice, kSlots);
+    GpuSimulation gpu(device, scene);
+    LineRenderer lines(device, {VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_UNDEFINED});
+    auto frames = std::make_unique<HostFrames>(vkDevice, device.framesInFlight());
 
     // The host's target (one per size) and a buffer it reads the particles back into.
     struct Target {
@@ -369,16 +368,19 @@ TEST_P(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
 
     OrbitCamera camera;
     for (uint32_t frame = 0; frame <= kFrames; ++frame) {
-      const uint32_t slot = frame % kSlots;
       const int t = frame < kFrames / 2 ? 0 : 1;
       if (frame == kFrames / 2) {  // a resize: the host has waited for the frames before it
         vkDeviceWaitIdle(vkDevice);
+        frames.reset();  // and its swapchain came back with more images
+        device.setFramesInFlight(3);
+        frames = std::make_unique<HostFrames>(vkDevice, 3);
         lines.setExtent(extents[t]);
       } else if (frame == 0) {
         lines.setExtent(extents[t]);
       }
-      lines.setMode(frame % 3 == 0 ? LineMode::Lines : LineMode::Splat);
-      VkCommandBuffer commands = frames.begin(slot);
+      const uint32_t slot = frame % device.framesInFlight();
+      lines.setMode(frame % 4 == 0 ? LineMode::Lines : LineMode::Splat);
+      VkCommandBuffer commands = frames->begin(slot);
       if (frame == kFrames) {  // the host's read-back of what the frames computed
         VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr,
                                 VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT};
@@ -390,7 +392,7 @@ TEST_P(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
                                     chunk.count * sizeof(Particle)};
           vkCmdCopyBuffer(commands, chunk.buffer, readback, 1, &region);
         }
-        frames.submit(host.handles.queue, slot);
+        frames->submit(host.handles.queue, slot);
         break;
       }
       gpu.update(slot, kSteps);
@@ -422,7 +424,7 @@ TEST_P(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
       beginRendering(commands, &rendering);
       lines.recordDraw(commands, slot, gpu, view);
       endRendering(commands);
-      frames.submit(host.handles.queue, slot);
+      frames->submit(host.handles.queue, slot);
     }
     vkDeviceWaitIdle(vkDevice);
     void* mapped = nullptr;
@@ -469,6 +471,63 @@ INSTANTIATE_TEST_SUITE_P(HostVersions, EmbeddingRecordOnly,
                            return version.param >= VK_API_VERSION_1_3 ? "Vulkan13" : "Vulkan12";
                          });
 
+// A host with three frames in flight that told Lava two: its third slot is refused at once
+// by the simulation and the renderer alike, naming the count and what to pass, on any
+// driver (lavapipe, which finishes each frame before the next begins, would never show the
+// race a reused slot makes on a GPU). Told three, the same host runs.
+TEST(EmbeddingFrameSlots, ASlotPastTheDevicesCountIsRefused) {
+  HostDevice host;
+  {
+    Device device(host.handles);
+    ASSERT_EQ(device.framesInFlight(), 2u);  // the default
+    Scene scene;
+    scene.emitters[0].particles = 1000;
+    GpuSimulation gpu(device, scene);
+    LineRenderer lines(device, {VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_UNDEFINED});
+    lines.setExtent({64, 64});
+    HostFrames frames(host.handles.device, 3);  // the host's three fences, in rotation
+    OrbitCamera camera;
+    const View view{camera.viewProj(1.0f), {64, 64}, camera.eye()};
+    const auto runFrames = [&]() {
+      uint32_t refused = 0;
+      for (uint32_t frame = 0; frame < 6; ++frame) {
+        const uint32_t slot = frame % 3;
+        VkCommandBuffer commands = frames.begin(slot);
+        try {
+          gpu.update(slot, 5);
+          gpu.recordSimulate(commands, slot);
+          lines.recordPrepare(commands, slot, gpu, view);
+        } catch (const InvalidArgument& e) {
+          ++refused;
+          EXPECT_EQ(slot, 2u);
+          EXPECT_NE(std::string(e.what()).find(
+                        "frame slot 2 is not below the device's 2 frames in flight: pass the "
+                        "index of the fence that guards the frame"),
+                    std::string::npos)
+              << e.what();
+          EXPECT_THROW(gpu.recordSimulate(commands, slot), InvalidArgument);
+          EXPECT_THROW(lines.recordPrepare(commands, slot, gpu, view), InvalidArgument);
+          EXPECT_THROW(lines.recordDraw(commands, slot, gpu, view), InvalidArgument);
+        }
+        frames.submit(host.handles.queue, slot);
+      }
+      return refused;
+    };
+    EXPECT_EQ(runFrames(), 2u);
+    EXPECT_EQ(gpu.step(), 4u * 5u);
+    EXPECT_THROW(device.setFramesInFlight(0), InvalidArgument);
+    EXPECT_THROW(device.setFramesInFlight(17), InvalidArgument);
+    device.setFramesInFlight(3);
+    EXPECT_EQ(runFrames(), 0u);
+    vkDeviceWaitIdle(host.handles.device);
+    CpuSimulation cpu(scene);
+    cpu.advance(10u * 5u);
+    const Comparison diff = compare(gpu.state().particles, cpu.state().particles);
+    EXPECT_EQ(diff.equal, diff.particles) << "max ULP " << diff.maxUlp;
+  }
+  for (const std::string& m : host.messages) ADD_FAILURE() << "validation: " << m;
+}
+
 // Two simulations on one borrowed device, each built and recorded on a thread of its own
 // into the host's command buffers (the host serialises its queue submissions, as Vulkan
 // requires): both equal the CPU reference.
@@ -481,12 +540,10 @@ TEST(EmbeddingThreads, TwoSimulationsRecordOnTwoThreads) {
     scene.seed = seed;
     scene.emitters[0].particles = 5000;
     scene.emitters[0].rate = 30000.0;
-    GpuSimulationOptions options;
-    options.framesInFlight = 2;
-    GpuSimulation gpu(device, scene, options);
-    auto frames = std::make_unique<HostFrames>(host.handles.device, options.framesInFlight);
+    GpuSimulation gpu(device, scene);
+    auto frames = std::make_unique<HostFrames>(host.handles.device, device.framesInFlight());
     for (uint32_t frame = 0; frame < 40; ++frame) {
-      const uint32_t slot = frame % options.framesInFlight;
+      const uint32_t slot = frame % device.framesInFlight();
       const uint32_t count = 5 + (frame * seed) % 13;
       VkCommandBuffer commands = frames->begin(slot);
       gpu.update(slot, count);
@@ -579,7 +636,7 @@ TEST_F(EmbeddingDraw, LinesLandInAHostImageOfAnotherChannelOrder) {
     std::vector<uint8_t> images[2];
     const VkFormat formats[2] = {VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_B8G8R8A8_UNORM};
     for (int i = 0; i < 2; ++i) {
-      host::FrameRenderer renderer(device(), formats[i], 1, style);
+      host::FrameRenderer renderer(device(), formats[i], style);
       const host::OffscreenTarget target(device(), {200, 150}, formats[i]);
       images[i] = host::renderOffscreen(submitter, renderer, simulation, target, camera);
     }

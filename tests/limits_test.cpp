@@ -130,7 +130,7 @@ TEST_P(Limits, DrawsTheSameImageChunkByChunk) {
     const host::Submitter submitter(device());
     for (LookStyle style : {LookStyle::Plain, LookStyle::Lava})
       for (LineMode mode : {LineMode::Lines, LineMode::Splat}) {
-        host::FrameRenderer renderer(device(), host::OffscreenTarget::kColorFormat, 1, style);
+        host::FrameRenderer renderer(device(), host::OffscreenTarget::kColorFormat, style);
         renderer.setLineMode(mode);
         const host::OffscreenTarget target(device(), {320, 240});
         images[constrained].push_back(
@@ -165,7 +165,7 @@ TEST_F(GlowCells, DrawTheSameImageWhereTexelViewsCannotHoldThem) {
     }
     for (LookStyle style : {LookStyle::Plain, LookStyle::Lava})
       for (LineMode mode : {LineMode::Lines, LineMode::Splat}) {
-        host::FrameRenderer renderer(device(), host::OffscreenTarget::kColorFormat, 1, style);
+        host::FrameRenderer renderer(device(), host::OffscreenTarget::kColorFormat, style);
         renderer.setLineMode(mode);
         const host::OffscreenTarget target(device(), extent);
         images[constrained].push_back(

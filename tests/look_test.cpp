@@ -74,7 +74,7 @@ class LookTest : public test::VulkanTest {
   }
   std::vector<uint8_t> draw(const GpuSimulation& simulation, LineMode mode,
                             const LookSettings& settings, VkExtent2D size) {
-    FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 1, LookStyle::Lava);
+    FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, LookStyle::Lava);
     renderer.setLineMode(mode);
     renderer.setSettings(settings);
     const OffscreenTarget target(device(), size);
@@ -343,7 +343,7 @@ TEST_F(LookTest, CachedBackdropDrawsTheSameImage) {
   simulation.advance(2000);
   for (LineMode mode : kModes) {
     SCOPED_TRACE(name(mode));
-    FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 1, LookStyle::Lava);
+    FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, LookStyle::Lava);
     renderer.setLineMode(mode);
     const OffscreenTarget target(device(), kSize);
     const auto drawn = host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
@@ -360,7 +360,7 @@ TEST_F(LookTest, CachedBackdropDrawsTheSameImage) {
 }
 
 TEST_F(LookTest, SettingsOutOfRangeAreRefusedByName) {
-  FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 1);
+  FrameRenderer renderer(device(), OffscreenTarget::kColorFormat);
   EXPECT_THROW(renderer.setSettings({0.0f, 1.0f, 0.1f}), InvalidArgument);
   EXPECT_THROW(renderer.setSettings({1.0f, 5.0f, 0.1f}), InvalidArgument);
   EXPECT_THROW(renderer.setSettings({1.0f, 1.0f, -1.0f}), InvalidArgument);

@@ -54,7 +54,7 @@ class RenderTest : public test::VulkanTest {
   // One frame of `simulation` into a fresh offscreen target.
   std::vector<uint8_t> draw(const GpuSimulation& simulation, LineMode mode,
                             const OrbitCamera& camera) {
-    FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 1, LookStyle::Plain);
+    FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, LookStyle::Plain);
     renderer.setLineMode(mode);
     const OffscreenTarget target(device(), kSize);
     return host::renderOffscreen(*submitter_, renderer, simulation, target, camera);
@@ -314,7 +314,7 @@ TEST_F(RenderTest, CachedGroundDrawsTheSameImage) {
   GpuSimulation simulation(device(), Scene{});
   simulation.advance(2000);
   for (LineMode mode : {LineMode::Lines, LineMode::Splat}) {
-    FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 1, LookStyle::Plain);
+    FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, LookStyle::Plain);
     renderer.setLineMode(mode);
     const OffscreenTarget target(device(), kSize);
     const auto drawn = host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
@@ -345,7 +345,7 @@ TEST_F(RenderTest, CachedBackdropIsRedrawnWhenTheCraterOrTheSizeChanges) {
   Scene scene;
   GpuSimulation simulation(device(), scene);
   simulation.advance(500);
-  FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 1, LookStyle::Plain);
+  FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, LookStyle::Plain);
   const OffscreenTarget target(device(), kSize);
   host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
   host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
@@ -400,7 +400,7 @@ TEST_F(RenderTest, SplatPairsOfPixelsDrawTheSameImagesAsSinglePixels) {
       simulation.setState(piled);
     else
       simulation.advance(3000);
-    FrameRenderer renderer(on, OffscreenTarget::kColorFormat, 1, style);
+    FrameRenderer renderer(on, OffscreenTarget::kColorFormat, style);
     renderer.setLineMode(LineMode::Splat);
     const OffscreenTarget target(on, kSize);
     return host::renderOffscreen(host::Submitter(on), renderer, simulation, target, camera_);
@@ -435,7 +435,7 @@ TEST_F(RenderTest, SplatSaturatesInsteadOfBleedingGreenIntoRed) {
     simulation.setState(state);
     std::vector<uint8_t> images[2];
     for (int splat = 0; splat < 2; ++splat) {
-      FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 1, style);
+      FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, style);
       renderer.setLineMode(splat ? LineMode::Splat : LineMode::Lines);
       renderer.setSettings({1.0f, 0.0f, 0.1f});
       const OffscreenTarget target(device(), kSize);
@@ -466,7 +466,7 @@ TEST_F(RenderTest, HostMemoryTargetDrawsTheSameImage) {
       std::aligned_alloc(OffscreenTarget::hostImportAlignment(device()), *bytes), &std::free);
   for (LineMode mode : {LineMode::Lines, LineMode::Splat}) {
     const auto expected = draw(simulation, mode, camera_);
-    FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 1, LookStyle::Plain);
+    FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, LookStyle::Plain);
     renderer.setLineMode(mode);
     const OffscreenTarget inHost(device(), kSize, OffscreenTarget::kColorFormat, host.get());
     EXPECT_TRUE(inHost.inHostMemory());
@@ -506,7 +506,7 @@ TEST_F(RenderTest, HostWritesTheCachedBackdropIntoAHostMemoryTarget) {
     for (LineMode mode : {LineMode::Lines, LineMode::Splat}) {
       SCOPED_TRACE(std::string(style == LookStyle::Lava ? "lava" : "plain") +
                    (mode == LineMode::Splat ? " splat" : " lines"));
-      FrameRenderer usual(device(), OffscreenTarget::kColorFormat, 1, style);
+      FrameRenderer usual(device(), OffscreenTarget::kColorFormat, style);
       usual.setLineMode(mode);
       const OffscreenTarget plainTarget(device(), kSize);
       const auto expected =
@@ -514,7 +514,7 @@ TEST_F(RenderTest, HostWritesTheCachedBackdropIntoAHostMemoryTarget) {
       const auto expectedTurned =
           host::renderOffscreen(*submitter_, usual, simulation, plainTarget, turned);
 
-      FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, 2, style);
+      FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, style);
       renderer.setLineMode(mode);
       const OffscreenTarget inHost(device(), kSize, OffscreenTarget::kColorFormat, host.get());
       // The first frame draws the backdrop; nothing is in the memory yet to write over.

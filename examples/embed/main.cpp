@@ -227,6 +227,7 @@ void barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, VkIm
 
 int run() {
   const Host host;
+  constexpr uint32_t framesInFlight = 2;
   const VkExtent2D extent{256, 256};
   const VkFormat colorFormat = VK_FORMAT_B8G8R8A8_UNORM;  // the host's choice
   const VkFormat depthFormat = VK_FORMAT_D32_SFLOAT;
@@ -245,16 +246,14 @@ int run() {
   handles.queue = host.queue;
   handles.int64Atomics = host.int64Atomics;
   handles.pushDescriptors = host.pushDescriptors;
+  handles.framesInFlight = framesInFlight;  // the host's fences, below
   lava::Device device(handles);
 
   // The lava crater (5,000 slots, 1,000 births per second), as Lava installs it.
   lava::Scene scene = lava::loadScene(std::string(LAVA_SCENES_DIR) + "/crater.toml");
   scene.emitters[0].rate = 4000.0;
-  const uint32_t framesInFlight = 2;
-  lava::GpuSimulationOptions options;
-  options.framesInFlight = framesInFlight;
-  lava::GpuSimulation simulation(device, scene, options);
-  lava::LineRenderer lines(device, {colorFormat, depthFormat}, framesInFlight);
+  lava::GpuSimulation simulation(device, scene);
+  lava::LineRenderer lines(device, {colorFormat, depthFormat});
   lines.setExtent(extent);
 
   // The host's command buffers, fences and queue: two frames in flight.

@@ -45,7 +45,9 @@ int main() {
     lava::Device device(lava::DeviceHandles{instance, physical, vkDevice, 0, queue});
     // The crater of the lab handout, three times as busy; scene files read the same way.
     const lava::Scene scene = lava::parseScene("rate = 3000\n", "inline scene");
-    lava::GpuSimulation simulation(device, scene, {1, 1000, 256});
+    lava::GpuSimulationOptions options;
+    options.maxStepsPerFrame = 1000;
+    lava::GpuSimulation simulation(device, scene, options);
 
     VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     VkCommandPool pool = VK_NULL_HANDLE;

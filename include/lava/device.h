@@ -46,6 +46,9 @@ struct DeviceHandles {
   // shaderBufferInt64Atomics when int64Atomics is set (InvalidArgument naming the feature).
   // Read only in the Device constructor.
   const VkPhysicalDeviceFeatures2* enabledFeatures = nullptr;
+  // The host's frames in flight: how many fences guard its frames (see
+  // Device::setFramesInFlight), 1 to 16.
+  uint32_t framesInFlight = 2;
 };
 
 // What a device must offer Lava: create it with these (vk-bootstrap or by hand).
@@ -85,6 +88,7 @@ struct DeviceOptions {
   bool pushDescriptors = true;  // VK_KHR_push_descriptor (else descriptor sets)
   bool floatControls = true;    // declare RTE rounding and signed-zero preservation
   std::string applicationName = "lava";
+  uint32_t framesInFlight = 2;  // see Device::setFramesInFlight
 };
 
 struct DeviceSummary {
@@ -135,6 +139,19 @@ class LAVA_API Device {
   // Own device: every device the instance listed, and the index of the one in use.
   const std::vector<DeviceSummary>& candidates() const;
   unsigned index() const;
+
+  // Frame slots: the host records frame after frame, each guarded by one of its fences, and
+  // names the frame's slot in GpuSimulation::update()/recordSimulate() and LineRenderer's
+  // recordPrepare()/recordDraw() by the index of that fence (0 .. framesInFlight() - 1),
+  // not by the swapchain image's index: drivers hand out images in any order (lavapipe
+  // always the same one), and a slot is reused only once its fence has signalled. The count
+  // is the device's, so every simulation and renderer on it agrees; a slot index at or past
+  // it throws InvalidArgument ("frame"). Change it when the host's count changes (a rebuilt
+  // swapchain with more images): objects grow their per-slot resources on the next use of
+  // a new slot; a lower count keeps them. 1 to 16 (InvalidArgument "framesInFlight"); not
+  // while another thread records with an object on this device.
+  void setFramesInFlight(uint32_t count);
+  uint32_t framesInFlight() const;
 
   // Validation messages (errors and warnings) since the last call; own device only.
   std::vector<std::string> takeValidationMessages();

@@ -55,7 +55,7 @@ struct LookSettings {
 // submission that used it has finished.
 class LAVA_API LineRenderer {
  public:
-  LineRenderer(Device& device, const RenderFormats& formats, uint32_t framesInFlight = 2);
+  LineRenderer(Device& device, const RenderFormats& formats);
   ~LineRenderer();
   LineRenderer(const LineRenderer&) = delete;
   LineRenderer& operator=(const LineRenderer&) = delete;
@@ -71,8 +71,9 @@ class LAVA_API LineRenderer {
   // of `extent` (allocates, and builds the pipelines that read the splat's sums and the
   // glow's cells on the first call or when either outgrows the device's texel views, which
   // the spec lets hold as few as 65,536 texels; call it before recording for a new size,
-  // when no frame using the old buffers is pending). recordPrepare() requires
-  // view.extent == the last setExtent().
+  // when no frame using the old buffers is pending), for each frame slot in use (a slot's
+  // first recordPrepare() adds its own). recordPrepare() requires view.extent == the last
+  // setExtent().
   void setExtent(VkExtent2D extent);
 
   // Outside rendering, after the simulation's recordSimulate():

@@ -84,7 +84,6 @@ class LAVA_API CpuSimulation final : public Simulation {
 };
 
 struct GpuSimulationOptions {
-  uint32_t framesInFlight = 2;       // frame slots of update() / recordSimulate()
   uint32_t maxStepsPerFrame = 2048;  // most steps one update() may plan
   uint32_t stepsPerDispatch = 256;   // 1..256 steps fused per dispatch (1: memory-bound)
   // Particles one chunk (binding, texel view, dispatch) holds: 0 for as many as the device
@@ -107,10 +106,10 @@ struct ParticleChunk {
 //   sim.recordSimulate(cmd, frame);      // record the steps into the host's command buffer
 //   ... draw with LineRenderer, submit, present ...
 //
-// `frame` in [0, framesInFlight) names per-frame resources: update(frame) may be called
-// once the host's previous submission that used `frame` has finished. Pass the index of
-// the host's fence that guards the frame (its frame in flight), not the swapchain image's:
-// drivers hand out images in any order, and lavapipe always the same one.
+// `frame` is the frame slot, below Device::framesInFlight(): the index of the host's fence
+// that guards the frame, not the swapchain image's (see Device::setFramesInFlight).
+// update(frame) may be called once the host's previous submission that used `frame` has
+// finished.
 // Thread safety: one thread at a time per object (const calls from any thread while no
 // other call runs); distinct objects on one Device on distinct threads, except the
 // blocking helpers (see Device).

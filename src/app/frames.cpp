@@ -104,7 +104,7 @@ double renderFrames(Device& device, const Scene& scene, const FramePlan& plan) {
   checkSize(device, plan.size);
   createOutputFolder(plan.folder);
   GpuSimulation simulation(device, scene);
-  host::FrameRenderer renderer(device, host::OffscreenTarget::kColorFormat, 1, plan.look.style);
+  host::FrameRenderer renderer(device, host::OffscreenTarget::kColorFormat, plan.look.style);
   renderer.setLineMode(plan.lines);
   renderer.setSettings(plan.look.settings);
   const host::OffscreenTarget target(device, plan.size);

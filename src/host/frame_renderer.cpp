@@ -75,12 +75,11 @@ F deviceFunction(const Device& device, const char* name, const char* khr) {
 
 }  // namespace
 
-FrameRenderer::FrameRenderer(Device& device, VkFormat colorFormat, uint32_t framesInFlight,
-                             LookStyle style)
+FrameRenderer::FrameRenderer(Device& device, VkFormat colorFormat, LookStyle style)
     : device_(device),
       colorFormat_(colorFormat),
       backdrop_(device, {colorFormat, kDepthFormat}),
-      lines_(device, {colorFormat, kDepthFormat}, framesInFlight),
+      lines_(device, {colorFormat, kDepthFormat}),
       cmdBeginRendering_(deviceFunction<PFN_vkCmdBeginRendering>(device, "vkCmdBeginRendering",
                                                                  "vkCmdBeginRenderingKHR")),
       cmdEndRendering_(deviceFunction<PFN_vkCmdEndRendering>(device, "vkCmdEndRendering",

@@ -18,8 +18,7 @@ namespace lava::host {
 
 class FrameRenderer {
  public:
-  FrameRenderer(Device& device, VkFormat colorFormat, uint32_t framesInFlight,
-                LookStyle style = LookStyle::Lava);
+  FrameRenderer(Device& device, VkFormat colorFormat, LookStyle style = LookStyle::Lava);
 
   void setLineMode(LineMode mode) { lines_.setMode(mode); }
   LineMode lineMode() const { return lines_.mode(); }
@@ -29,7 +28,7 @@ class FrameRenderer {
   void setSettings(const LookSettings& settings) { lines_.setSettings(settings); }
   const LookSettings& settings() const { return lines_.settings(); }
 
-  // Records the frame into `target` in frame slot `frame` (below framesInFlight; that
+  // Records the frame into `target` in frame slot `frame` (below the device's; that
   // slot's previous frame must have finished). The color and depth images' previous
   // contents are discarded; the depth image is left alone while the cached backdrop's depth
   // serves, and a target with hostColor may have its colour written by the host here, before

@@ -445,9 +445,20 @@ void checkEnabledFeatures(const DeviceHandles& h, uint32_t apiVersion) {
 
 }  // namespace
 
+namespace {
+
+uint32_t checkedFramesInFlight(uint32_t count) {
+  if (count < 1 || count > 16)
+    throw InvalidArgument("framesInFlight", "expected 1 to 16, got " + std::to_string(count));
+  return count;
+}
+
+}  // namespace
+
 Device::Device(const DeviceOptions& options) : context_(std::make_unique<DeviceContext>()) {
   DeviceContext& c = *context_;
   c.owned = true;
+  c.framesInFlight = checkedFramesInFlight(options.framesInFlight);
   c.vk.loadGlobal(vkGetInstanceProcAddr);
   try {
     createInstance(c, options);
@@ -471,6 +482,7 @@ Device::Device(const DeviceHandles& borrowed) : context_(std::make_unique<Device
   if (!borrowed.instance || !borrowed.physicalDevice || !borrowed.device || !borrowed.queue)
     throw InvalidArgument("handles", "instance, physical device, device and queue are required");
   c.handles = borrowed;
+  c.framesInFlight = checkedFramesInFlight(borrowed.framesInFlight);
   if (!c.handles.getInstanceProcAddr) c.handles.getInstanceProcAddr = vkGetInstanceProcAddr;
   c.vk.loadGlobal(c.handles.getInstanceProcAddr);
   c.vk.loadInstance(c.handles.instance);
@@ -503,6 +515,23 @@ Device::~Device() {
   if (context_->owned && context_->handles.device)
     context_->vk.DeviceWaitIdle(context_->handles.device);
   context_->release();
+}
+
+void detail::DeviceContext::checkFrame(uint32_t frame) const {
+  const uint32_t count = framesInFlight;
+  if (frame >= count)
+    throw InvalidArgument("frame", "frame slot " + std::to_string(frame) +
+                                       " is not below the device's " + std::to_string(count) +
+                                       " frames in flight: pass the index of the fence that "
+                                       "guards the frame, or raise the count "
+                                       "(Device::setFramesInFlight)");
+}
+
+void Device::setFramesInFlight(uint32_t count) {
+  context_->framesInFlight = checkedFramesInFlight(count);
+}
+uint32_t Device::framesInFlight() const {
+  return context_->framesInFlight;
 }
 
 const DeviceHandles& Device::handles() const {

@@ -98,6 +98,7 @@ DeviceOptions windowDeviceOptions(const DemoOptions& options) {
                              VK_EXT_EXTERNAL_MEMORY_HOST_EXTENSION_NAME};
   device.validation = options.validation;
   device.index = options.device;
+  device.framesInFlight = kFramesInFlight;
   return device;
 }
 
@@ -154,7 +155,7 @@ class Demo {
                      : Surface()),
         format_(windowFormat(path_, device_, surface_.handle)),
         simulation_(std::make_unique<GpuSimulation>(device_, scene_, simulationOptions())),
-        renderer_(device_, format_.format, kFramesInFlight, options.style),
+        renderer_(device_, format_.format, options.style),
         timer_(device_, kFramesInFlight) {
     if (path_ == PresentPath::Shm)
       presenter_ = std::make_unique<ShmPresenter>(device_, window_.handle, kFramesInFlight);
@@ -222,7 +223,6 @@ class Demo {
 
   static GpuSimulationOptions simulationOptions() {
     GpuSimulationOptions o;
-    o.framesInFlight = kFramesInFlight;
     o.maxStepsPerFrame = kStepsPerFrameMax;
     return o;
   }
@@ -321,7 +321,7 @@ class Demo {
   // P: this frame as the window shows it, offscreen, into the next free numbered PNG.
   void saveScreenshot() {
     device_.waitIdle();
-    host::FrameRenderer offscreen(device_, host::OffscreenTarget::kColorFormat, 1,
+    host::FrameRenderer offscreen(device_, host::OffscreenTarget::kColorFormat,
                                   renderer_.style());
     offscreen.setLineMode(renderer_.lineMode());
     offscreen.setSettings(renderer_.settings());

@@ -55,7 +55,6 @@ struct GlowSlot {
 struct LineRenderer::Impl {
   detail::DeviceContext& c;
   RenderFormats formats;
-  uint32_t framesInFlight;
   LineMode mode = LineMode::Lines;
   LookStyle style = LookStyle::Lava;
   LookSettings settings;
@@ -75,27 +74,31 @@ struct LineRenderer::Impl {
   bool sumsAsTexels = false;
   bool cellsAsTexels = false;
   // Set-up recorded by the next recordPrepare(): noDepth's first layout, and the glow's
-  // quad lists emptied (a frame's draw may come before any prepare has listed its quads).
+  // quad lists of new slots emptied (a frame's draw may come before any prepare has listed
+  // its quads).
   bool depthPending = true;
-  bool listsPending = false;
+  std::vector<uint32_t> listsPending;  // slots
   VkExtent2D extent{0, 0};
-  glm::uvec2 grid{0, 0};                                     // glow cells across and down
-  glm::uvec2 tiles{0, 0};                                    // resolve tiles across and down
-  std::vector<Buffer> accumulation;                          // per frame slot: the splat's sums
-  std::vector<detail::UniqueBufferView> accumulationTexels;  // their views, if sumsAsTexels
-  std::vector<Buffer> marks;  // per frame slot: the resolve tiles lines were added to
+  glm::uvec2 grid{0, 0};   // glow cells across and down
+  glm::uvec2 tiles{0, 0};  // resolve tiles across and down
+  VkDeviceSize sumCount = 0;  // the splat's sums for the extent (whole blocks)
+  uint32_t used = 1;          // frame slots prepared so far (at least slot 0)
+  // Per frame slot in use (recordPrepare() adds a slot on its first use; setExtent()
+  // remakes those in use): the splat's sums (and their views, if
+  // sumsAsTexels), the resolve tiles lines were added to, and what the glow writes.
+  std::vector<Buffer> accumulation;
+  std::vector<detail::UniqueBufferView> accumulationTexels;
+  std::vector<Buffer> marks;
   std::vector<GlowSlot> glow;
   // Per frame slot, without push descriptors: recordPrepare() starts the slot's frame.
   mutable std::vector<detail::DescriptorArena> sets;
 
-  Impl(detail::DeviceContext& context, const RenderFormats& f, uint32_t frames)
-      : c(context), formats(f), framesInFlight(frames) {}
+  Impl(detail::DeviceContext& context, const RenderFormats& f) : c(context), formats(f) {}
 
   void createSizedPipelines(bool sumsTexels, bool cellsTexels);
-  void createDescriptorArenas() {
-    sets.clear();
-    for (uint32_t f = 0; f < framesInFlight; ++f) sets.emplace_back(c);
-  }
+  // Per-slot resources for `count` slots (those for the extent once it is set).
+  void grow(uint32_t count);
+  void addSizedSlot();
   // Slot `frame`'s sums, bound at `binding` as the draws read them.
   detail::Descriptors& sums(detail::Descriptors& d, uint32_t binding, uint32_t frame) const {
     return sumsAsTexels
@@ -113,14 +116,10 @@ struct LineRenderer::Impl {
                        const gpu::GlowParams& params, bool resolves) const;
 };
 
-LineRenderer::LineRenderer(Device& device, const RenderFormats& formats, uint32_t framesInFlight)
-    : impl_(std::make_unique<Impl>(device.context(), formats, framesInFlight)) {
-  if (framesInFlight < 1 || framesInFlight > 16)
-    throw InvalidArgument("framesInFlight",
-                          "expected 1 to 16, got " + std::to_string(framesInFlight));
+LineRenderer::LineRenderer(Device& device, const RenderFormats& formats)
+    : impl_(std::make_unique<Impl>(device.context(), formats)) {
   Impl& m = *impl_;
   const detail::DeviceContext& c = m.c;
-  m.createDescriptorArenas();
   m.lineSet = detail::createSetLayout(c, {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
                                       VK_SHADER_STAGE_VERTEX_BIT);
   m.lineLayout = detail::createPipelineLayout(c, m.lineSet, kDrawStages, sizeof(gpu::DrawParams));
@@ -246,59 +245,67 @@ void LineRenderer::setExtent(VkExtent2D extent) {
   if (extent.width == m.extent.width && extent.height == m.extent.height) return;
   if (extent.width == 0 || extent.height == 0)
     throw InvalidArgument("extent", "expected a non-empty size");
-  m.createDescriptorArenas();  // sets of the old layouts name the old buffers
+  m.sets.clear();  // sets of the old layouts name the old buffers
   m.accumulationTexels.clear();
   m.accumulation.clear();
   m.marks.clear();
   m.glow.clear();
+  m.listsPending.clear();
   m.grid = {(extent.width + gpu::kGlowCell - 1) / gpu::kGlowCell,
             (extent.height + gpu::kGlowCell - 1) / gpu::kGlowCell};
   const VkDeviceSize cells = VkDeviceSize{m.grid.x} * m.grid.y;
   m.tiles = {detail::groupCount(extent.width, gpu::kResolveTile),
              detail::groupCount(extent.height, gpu::kResolveTile)};
-  const VkDeviceSize sums = VkDeviceSize{detail::groupCount(extent.width, gpu::kSplatBlockWidth)} *
-                            detail::groupCount(extent.height, gpu::kSplatBlockHeight) *
-                            gpu::kSplatBlockWidth * gpu::kSplatBlockHeight;
+  m.sumCount = VkDeviceSize{detail::groupCount(extent.width, gpu::kSplatBlockWidth)} *
+               detail::groupCount(extent.height, gpu::kSplatBlockHeight) *
+               gpu::kSplatBlockWidth * gpu::kSplatBlockHeight;
   // The draws read the sums through a texel view where one holds them (on llvmpipe a
   // gather, where a storage-buffer load is a loop over the lanes; docs/benchmarks-history.md,
   // "Texel views"); 720p needs 921,600 texels, more than the spec's minimum of 65,536.
-  const bool sumTexels = sums <= m.c.limits.maxTexelBufferElements;
+  const bool sumTexels = m.sumCount <= m.c.limits.maxTexelBufferElements;
   // The glow's cells the same (the minimum holds 4K's 32,400 cells, not 8K's 129,600).
   const bool cellTexels = cells <= m.c.limits.maxTexelBufferElements;
   if (!m.plainResolve || sumTexels != m.sumsAsTexels || cellTexels != m.cellsAsTexels)
     m.createSizedPipelines(sumTexels, cellTexels);
-  const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-  for (uint32_t f = 0; f < m.framesInFlight; ++f) {
-    m.accumulation.emplace_back(m.c, sums * sizeof(uint32_t),
-                                storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-                                    (sumTexels ? VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT : 0),
-                                detail::MemoryUse::Device);
-    if (sumTexels)
-      m.accumulationTexels.push_back(detail::createTexelView(m.c, m.accumulation.back().get(),
-                                                             VK_WHOLE_SIZE, VK_FORMAT_R32_UINT));
-    m.marks.emplace_back(m.c, VkDeviceSize{m.tiles.x} * m.tiles.y * sizeof(uint32_t),
-                         storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, detail::MemoryUse::Device);
-    GlowSlot g;
-    const VkBufferUsageFlags cellUse =
-        storage | (cellTexels ? VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT : 0);
-    g.sums = Buffer(m.c, 2 * cells * sizeof(uint32_t), cellUse | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                    detail::MemoryUse::Device);
-    g.light = Buffer(m.c, cells * 2 * sizeof(float), cellUse, detail::MemoryUse::Device);
-    if (cellTexels) {
-      g.sumTexels =
-          detail::createTexelView(m.c, g.sums.get(), VK_WHOLE_SIZE, VK_FORMAT_R32G32_UINT);
-      g.lightTexels =
-          detail::createTexelView(m.c, g.light.get(), VK_WHOLE_SIZE, VK_FORMAT_R32G32_SFLOAT);
-    }
-    const VkDeviceSize quads = VkDeviceSize{m.grid.x + 1} * (m.grid.y + 1);
-    g.list =
-        Buffer(m.c, 16 + quads * sizeof(uint32_t),
-               storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-               detail::MemoryUse::Device);
-    m.glow.push_back(std::move(g));
-  }
-  m.listsPending = true;
   m.extent = extent;
+  m.grow(m.used);
+}
+
+void LineRenderer::Impl::grow(uint32_t count) {
+  while (sets.size() < count) sets.emplace_back(c);
+  if (extent.width == 0) return;
+  while (accumulation.size() < count) addSizedSlot();
+}
+
+void LineRenderer::Impl::addSizedSlot() {
+  const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  accumulation.emplace_back(c, sumCount * sizeof(uint32_t),
+                            storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                                (sumsAsTexels ? VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT : 0),
+                            detail::MemoryUse::Device);
+  if (sumsAsTexels)
+    accumulationTexels.push_back(detail::createTexelView(c, accumulation.back().get(),
+                                                         VK_WHOLE_SIZE, VK_FORMAT_R32_UINT));
+  marks.emplace_back(c, VkDeviceSize{tiles.x} * tiles.y * sizeof(uint32_t),
+                     storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, detail::MemoryUse::Device);
+  const VkDeviceSize cells = VkDeviceSize{grid.x} * grid.y;
+  GlowSlot g;
+  const VkBufferUsageFlags cellUse =
+      storage | (cellsAsTexels ? VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT : 0);
+  g.sums = Buffer(c, 2 * cells * sizeof(uint32_t), cellUse | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                  detail::MemoryUse::Device);
+  g.light = Buffer(c, cells * 2 * sizeof(float), cellUse, detail::MemoryUse::Device);
+  if (cellsAsTexels) {
+    g.sumTexels = detail::createTexelView(c, g.sums.get(), VK_WHOLE_SIZE, VK_FORMAT_R32G32_UINT);
+    g.lightTexels =
+        detail::createTexelView(c, g.light.get(), VK_WHOLE_SIZE, VK_FORMAT_R32G32_SFLOAT);
+  }
+  const VkDeviceSize quads = VkDeviceSize{grid.x + 1} * (grid.y + 1);
+  g.list = Buffer(c, 16 + quads * sizeof(uint32_t),
+                  storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                  detail::MemoryUse::Device);
+  glow.push_back(std::move(g));
+  listsPending.push_back(static_cast<uint32_t>(glow.size() - 1));
 }
 
 namespace {
@@ -324,13 +331,6 @@ gpu::GlowParams glowParams(const GpuSimulation& simulation, const View& view,
   p.target = glm::uvec4(view.extent.width, view.extent.height, 0u, 0u);
   p.glow = glm::vec4(settings.threshold, settings.bloom, settings.exposure, 0.0f);
   return p;
-}
-
-void checkFrame(uint32_t frame, uint32_t framesInFlight) {
-  if (frame >= framesInFlight)
-    throw InvalidArgument("frame", "expected a frame slot in [0, " +
-                                       std::to_string(framesInFlight - 1) + "], got " +
-                                       std::to_string(frame));
 }
 
 }  // namespace
@@ -409,7 +409,9 @@ void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
                                  const GpuSimulation& simulation, const View& view,
                                  VkImageView depth) {
   Impl& m = *impl_;
-  checkFrame(frame, m.framesInFlight);
+  m.c.checkFrame(frame);
+  m.used = std::max(m.used, frame + 1);
+  m.grow(m.used);
   simulation.recordInit(commands);
   if (m.depthPending) {
     detail::imageBarrier(m.c, commands, m.noDepth.image, VK_IMAGE_ASPECT_DEPTH_BIT,
@@ -418,8 +420,9 @@ void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
                          VK_ACCESS_SHADER_READ_BIT);
     m.depthPending = false;
   }
-  if (m.listsPending) {
-    for (const GlowSlot& g : m.glow) m.c.vk.CmdFillBuffer(commands, g.list.get(), 0, 16, 0);
+  if (!m.listsPending.empty()) {
+    for (const uint32_t slot : m.listsPending)
+      m.c.vk.CmdFillBuffer(commands, m.glow[slot].list.get(), 0, 16, 0);
     // RAW: the glow's draw reads the lists as indirect arguments; WAW: the glow's passes
     // count into them.
     detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT,
@@ -427,7 +430,7 @@ void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
                           VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                           VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT |
                               VK_ACCESS_SHADER_WRITE_BIT);
-    m.listsPending = false;
+    m.listsPending.clear();
   }
   const bool splat = m.mode == LineMode::Splat;
   const bool glow = m.style == LookStyle::Lava && m.settings.bloom > 0.0f;
@@ -482,7 +485,10 @@ void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
 void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
                               const GpuSimulation& simulation, const View& view) const {
   const Impl& m = *impl_;
-  checkFrame(frame, m.framesInFlight);
+  m.c.checkFrame(frame);
+  if (frame >= m.sets.size())
+    throw InvalidArgument("frame", "slot " + std::to_string(frame) +
+                                       " has had no recordPrepare() yet: prepare it first");
   detail::setViewport(m.c, commands, view.extent);
   const bool lava = m.style == LookStyle::Lava;
   const bool glow = lava && m.settings.bloom > 0.0f;

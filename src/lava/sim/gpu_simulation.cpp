@@ -41,20 +41,26 @@ struct StepPipelines {
 // of `capacity` entries per emitter), the scene's parameters for them, and on the host each
 // emitter's births before each entry (to keep a dispatch under 2^31 births).
 struct ScheduleSlot {
-  VkDeviceSize offset = 0;                    // of its entries in the schedule buffer
-  VkDeviceSize sceneOffset = 0;               // of its SceneParams in the scene buffer
+  ScheduleSlot(detail::DeviceContext& c, size_t emitters, uint32_t entries)
+      : capacity(entries),
+        births(emitters, std::vector<uint64_t>(entries + 1, 0)),
+        heads(emitters, std::vector<uint32_t>(entries, 0)),
+        schedule(c, emitters * entries * sizeof(gpu::EmitEntry), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                 MemoryUse::Upload),
+        sceneParams(c, sizeof(gpu::SceneParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                    MemoryUse::Upload),
+        sets(c) {}
+
   uint32_t capacity = 0;                      // entries per emitter
   uint32_t planned = 0;                       // steps the last update() wrote, until recorded
   std::vector<std::vector<uint64_t>> births;  // [emitter][i]: births before entry i
   std::vector<std::vector<uint32_t>> heads;   // [emitter][i]: ring slot of entry i's first birth
   std::vector<uint32_t> rings;                // [emitter]: its first slot
   StepPipelines pipelines;                    // for the scene planned into it
+  Buffer schedule;                            // the entries, host-written
+  Buffer sceneParams;                         // the scene's parameters, host-written
+  detail::DescriptorArena sets;               // without push descriptors
 };
-
-VkDeviceSize alignUp(VkDeviceSize bytes, VkDeviceSize alignment) {
-  alignment = std::max<VkDeviceSize>(alignment, 1);
-  return (bytes + alignment - 1) / alignment * alignment;
-}
 
 // Half-open ranges of workgroups of one step dispatch.
 struct GroupRange {
@@ -138,12 +144,12 @@ struct GpuSimulation::Impl {
   std::vector<detail::UniqueBufferView> views;
   std::vector<ParticleChunk> chunks;
   Buffer upload, readback;  // one chunk's worth each, for setState() and state()
-  Buffer schedule;
-  Buffer sceneParams;
-  std::vector<ScheduleSlot> slots;  // framesInFlight frame slots, then the blocking slot
+  // The host's frame slots (as many as the device has had; made on their first update()),
+  // and the blocking helpers' own.
+  std::vector<std::unique_ptr<ScheduleSlot>> frames;
+  std::unique_ptr<ScheduleSlot> blocking;
   detail::UniqueDescriptorSetLayout setLayout;
   detail::UniquePipelineLayout pipelineLayout;
-  std::vector<detail::DescriptorArena> descriptorSets;  // per slot, without push descriptors
   // One pipeline per set of modules a scene used (kept: a frame in flight may use it).
   std::map<detail::Constants, detail::UniquePipeline> pipelines;
   std::vector<EmitterClock> clocks;
@@ -152,7 +158,8 @@ struct GpuSimulation::Impl {
 
   Impl(detail::DeviceContext& context, const GpuSimulationOptions& o) : c(context), options(o) {}
 
-  uint32_t blockingSlot() const { return options.framesInFlight; }
+  static constexpr uint32_t kBlockingSlot = UINT32_MAX;
+  ScheduleSlot& slot(uint32_t index) { return index == kBlockingSlot ? *blocking : *frames[index]; }
   // Creates what is missing (`none` too unless onlyBirths: a run that never steps need not
   // compile it).
   StepPipelines pipelinesFor(const Scene& scene, bool onlyBirths = false);
@@ -203,9 +210,6 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
     : Simulation(scene), impl_(std::make_unique<Impl>(device.context(), options)) {
   Impl& m = *impl_;
   detail::DeviceContext& c = m.c;
-  if (options.framesInFlight < 1 || options.framesInFlight > 16)
-    throw InvalidArgument("framesInFlight",
-                          "expected 1 to 16, got " + std::to_string(options.framesInFlight));
   if (options.maxStepsPerFrame < 1 || options.maxStepsPerFrame > 65536)
     throw InvalidArgument("maxStepsPerFrame",
                           "expected 1 to 65536, got " + std::to_string(options.maxStepsPerFrame));
@@ -243,23 +247,7 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
   m.upload = Buffer(c, chunkBytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload);
   m.readback = Buffer(c, chunkBytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUse::Readback);
 
-  const size_t emitters = scene.emitters.size();
-  VkDeviceSize offset = 0, sceneOffset = 0;
-  for (uint32_t s = 0; s <= options.framesInFlight; ++s) {
-    ScheduleSlot slot;
-    slot.offset = offset;
-    slot.sceneOffset = sceneOffset;
-    slot.capacity = s < options.framesInFlight ? options.maxStepsPerFrame : kBlockingSteps;
-    slot.births.assign(emitters, std::vector<uint64_t>(slot.capacity + 1, 0));
-    slot.heads.assign(emitters, std::vector<uint32_t>(slot.capacity, 0));
-    offset += alignUp(emitters * slot.capacity * sizeof(gpu::EmitEntry),
-                      c.limits.minStorageBufferOffsetAlignment);
-    sceneOffset += alignUp(sizeof(gpu::SceneParams), c.limits.minUniformBufferOffsetAlignment);
-    m.slots.push_back(std::move(slot));
-    m.descriptorSets.emplace_back(c);
-  }
-  m.schedule = Buffer(c, offset, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Upload);
-  m.sceneParams = Buffer(c, sceneOffset, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemoryUse::Upload);
+  m.blocking = std::make_unique<ScheduleSlot>(c, scene.emitters.size(), kBlockingSteps);
 
   m.setLayout = detail::createSetLayout(
       c,
@@ -322,12 +310,12 @@ StepPipelines GpuSimulation::Impl::pipelinesFor(const Scene& scene, bool onlyBir
 }
 
 void GpuSimulation::Impl::plan(const Scene& scene, uint32_t index, uint32_t steps) {
-  ScheduleSlot& slot = slots[index];
+  ScheduleSlot& slot = this->slot(index);
   if (steps > slot.capacity)
     throw InvalidArgument("steps", "at most " + std::to_string(slot.capacity) +
                                        " steps per update, got " + std::to_string(steps));
   auto* entries =
-      reinterpret_cast<gpu::EmitEntry*>(static_cast<char*>(schedule.mapped()) + slot.offset);
+      static_cast<gpu::EmitEntry*>(slot.schedule.mapped());
   const gpu::SceneParams params = detail::sceneParams(scene);
   slot.rings.assign(scene.emitters.size(), 0);
   for (size_t k = 0; k < scene.emitters.size(); ++k) {
@@ -348,18 +336,18 @@ void GpuSimulation::Impl::plan(const Scene& scene, uint32_t index, uint32_t step
     }
     before[steps] = births;
   }
-  std::memcpy(static_cast<char*>(sceneParams.mapped()) + slot.sceneOffset, &params, sizeof(params));
+  std::memcpy(slot.sceneParams.mapped(), &params, sizeof(params));
   slot.pipelines = pipelinesFor(scene);
   slot.planned = steps;
   step += steps;
-  schedule.flush();
-  sceneParams.flush();
+  slot.schedule.flush();
+  slot.sceneParams.flush();
 }
 
 void GpuSimulation::Impl::record(const Scene& scene, VkCommandBuffer commands, uint32_t index) {
-  ScheduleSlot& slot = slots[index];
+  ScheduleSlot& slot = this->slot(index);
   if (slot.planned == 0) return;
-  descriptorSets[index].reset();  // the slot's previous submission has finished
+  slot.sets.reset();  // the slot's previous submission has finished
   VkPipeline bound = VK_NULL_HANDLE;
   gpu::StepParams params{};
   params.run.z = slot.capacity;
@@ -391,13 +379,13 @@ void GpuSimulation::Impl::record(const Scene& scene, VkCommandBuffer commands, u
       detail::Descriptors()
           .buffer(gpu::kParticleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, chunk.buffer, 0,
                   chunk.count * kParticleBytes)
-          .buffer(gpu::kScheduleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, schedule.get(),
-                  slot.offset, scheduleBytes)
+          .buffer(gpu::kScheduleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, slot.schedule.get(),
+                  0, scheduleBytes)
           .texels(gpu::kParticleTexelBinding, chunk.texels)
-          .buffer(gpu::kSceneBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, sceneParams.get(),
-                  slot.sceneOffset, sizeof(gpu::SceneParams))
+          .buffer(gpu::kSceneBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, slot.sceneParams.get(),
+                  0, sizeof(gpu::SceneParams))
           .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout, setLayout,
-                descriptorSets[index]);
+                slot.sets);
       const uint64_t invocations =
           (uint64_t{chunk.count} + gpu::kParticlesPerInvocation - 1) / gpu::kParticlesPerInvocation;
       const uint32_t groups = detail::groupCount(invocations, gpu::kWorkgroupSize);
@@ -434,25 +422,24 @@ void GpuSimulation::Impl::record(const Scene& scene, VkCommandBuffer commands, u
 }
 
 void GpuSimulation::update(uint32_t frame, uint32_t steps) {
-  if (frame >= impl_->options.framesInFlight)
-    throw InvalidArgument("frame", "expected a frame slot in [0, " +
-                                       std::to_string(impl_->options.framesInFlight - 1) +
-                                       "], got " + std::to_string(frame));
-  if (impl_->slots[frame].planned > 0)  // planning over them would lose those steps
+  Impl& m = *impl_;
+  m.c.checkFrame(frame);
+  while (m.frames.size() <= frame)  // a slot's first frame, or more slots than before
+    m.frames.push_back(
+        std::make_unique<ScheduleSlot>(m.c, scene_.emitters.size(), m.options.maxStepsPerFrame));
+  if (m.frames[frame]->planned > 0)  // planning over them would lose those steps
     throw InvalidArgument("frame", "slot " + std::to_string(frame) + " still holds " +
-                                       std::to_string(impl_->slots[frame].planned) +
+                                       std::to_string(m.frames[frame]->planned) +
                                        " steps of the last update(): record them first "
                                        "(recordSimulate)");
-  impl_->plan(scene_, frame, steps);
+  m.plan(scene_, frame, steps);
 }
 
 void GpuSimulation::recordSimulate(VkCommandBuffer commands, uint32_t frame) {
-  if (frame >= impl_->options.framesInFlight)
-    throw InvalidArgument("frame", "expected a frame slot in [0, " +
-                                       std::to_string(impl_->options.framesInFlight - 1) +
-                                       "], got " + std::to_string(frame));
-  impl_->recordInit(commands);
-  impl_->record(scene_, commands, frame);
+  Impl& m = *impl_;
+  m.c.checkFrame(frame);
+  m.recordInit(commands);
+  if (frame < m.frames.size()) m.record(scene_, commands, frame);  // else nothing planned
 }
 
 void GpuSimulation::recordInit(VkCommandBuffer commands) const {
@@ -463,11 +450,11 @@ void GpuSimulation::Impl::runBlocking(const Scene& scene, uint64_t steps,
                                       const detail::TimestampPair* timer, double* seconds) {
   while (steps > 0) {
     const uint32_t batch = static_cast<uint32_t>(std::min<uint64_t>(steps, kBlockingSteps));
-    plan(scene, blockingSlot(), batch);
+    plan(scene, kBlockingSlot, batch);
     c.submitNow([&](VkCommandBuffer commands) {
       recordInit(commands);
       if (timer) timer->recordStart(commands);
-      record(scene, commands, blockingSlot());
+      record(scene, commands, kBlockingSlot);
       if (timer) timer->recordEnd(commands);
     });
     if (timer) *seconds += timer->seconds();

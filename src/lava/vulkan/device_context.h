@@ -4,6 +4,7 @@
 #pragma once
 #include <vulkan/vulkan.h>
 
+#include <atomic>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -31,6 +32,7 @@ struct DeviceContext {
   VkDeviceSize deviceLocal = 0;          // the largest device-local heap
   VkDeviceSize hostImportAlignment = 0;  // VK_EXT_external_memory_host, 0 when not enabled
   bool pushDescriptors = false;          // VK_KHR_push_descriptor enabled: no descriptor sets
+  std::atomic<uint32_t> framesInFlight{2};  // Device::setFramesInFlight
 
   VkCommandPool pool = VK_NULL_HANDLE;  // for blocking helpers
 
@@ -40,6 +42,8 @@ struct DeviceContext {
   VkDevice device() const { return handles.device; }
   const VkAllocationCallbacks* allocator() const { return handles.allocator; }
   bool hasExtension(const char* name) const;
+  // InvalidArgument ("frame") unless `frame` is one of the device's frame slots.
+  void checkFrame(uint32_t frame) const;
   // A memory type among `typeBits` with all of `required`, preferring one that also has
   // `preferred`; throws ResourceError when none has `required`.
   uint32_t findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required,
