@@ -528,6 +528,281 @@ TEST(EmbeddingFrameSlots, ASlotPastTheDevicesCountIsRefused) {
   for (const std::string& m : host.messages) ADD_FAILURE() << "validation: " << m;
 }
 
+// The frame recipe with depth (docs/library.md), in the host's render passes and in dynamic
+// rendering: the backdrop writes colour and depth in a first pass; the depth goes read-only;
+// recordPrepare() splats against it; the lines and the glow draw in a second pass. The same
+// frames give the same pixels, byte for byte, in both, with validation and synchronisation
+// validation clean. A host that never enabled dynamic rendering for Lava must give passes.
+TEST(EmbeddingRenderPass, DrawsWhatDynamicRenderingDraws) {
+  HostDevice host;
+  const VkDevice vk = host.handles.device;
+  constexpr VkFormat kColor = VK_FORMAT_B8G8R8A8_UNORM, kDepth = VK_FORMAT_D32_SFLOAT;
+  constexpr VkImageLayout kWrite = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+                          kRead = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+                          kColorLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+  const VkExtent2D extent{192, 128};
+  Scene scene;
+  scene.emitters[0].particles = 4096;
+  scene.emitters[0].rate = 20000.0;
+  // A sphere between the camera and the fountain: lines behind it are hidden by the depth.
+  Collider sphere;
+  sphere.type = ColliderType::Sphere;
+  sphere.position = {1.6f, 1.6f, 2.3f};
+  sphere.radius = 0.8f;
+  scene.colliders.push_back(sphere);
+  // The host's attachments and read-back buffer.
+  struct Image {
+    VkImage image = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    VkImageView view = VK_NULL_HANDLE;
+  } images[2];
+  for (int i = 0; i < 2; ++i) {
+    VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    info.imageType = VK_IMAGE_TYPE_2D;
+    info.format = i ? kDepth : kColor;
+    info.extent = {extent.width, extent.height, 1};
+    info.mipLevels = info.arrayLayers = 1;
+    info.samples = VK_SAMPLE_COUNT_1_BIT;
+    // The depth is sampled by the splat.
+    info.usage = i ? VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT
+                   : VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    ASSERT_EQ(vkCreateImage(vk, &info, nullptr, &images[i].image), VK_SUCCESS);
+    VkMemoryRequirements needs;
+    vkGetImageMemoryRequirements(vk, images[i].image, &needs);
+    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    alloc.allocationSize = needs.size;
+    alloc.memoryTypeIndex = hostMemoryType(host.handles.physicalDevice, needs.memoryTypeBits, 0);
+    ASSERT_EQ(vkAllocateMemory(vk, &alloc, nullptr, &images[i].memory), VK_SUCCESS);
+    vkBindImageMemory(vk, images[i].image, images[i].memory, 0);
+    VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    view.image = images[i].image;
+    view.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    view.format = info.format;
+    view.subresourceRange = {i ? VkImageAspectFlags(VK_IMAGE_ASPECT_DEPTH_BIT)
+                               : VkImageAspectFlags(VK_IMAGE_ASPECT_COLOR_BIT),
+                             0, 1, 0, 1};
+    ASSERT_EQ(vkCreateImageView(vk, &view, nullptr, &images[i].view), VK_SUCCESS);
+  }
+  const VkDeviceSize bytes = VkDeviceSize{extent.width} * extent.height * 4;
+  VkBufferCreateInfo bufferInfo{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  bufferInfo.size = bytes;
+  bufferInfo.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  VkBuffer readback = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateBuffer(vk, &bufferInfo, nullptr, &readback), VK_SUCCESS);
+  VkMemoryRequirements needs;
+  vkGetBufferMemoryRequirements(vk, readback, &needs);
+  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  alloc.allocationSize = needs.size;
+  alloc.memoryTypeIndex =
+      hostMemoryType(host.handles.physicalDevice, needs.memoryTypeBits,
+                     VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+  VkDeviceMemory readbackMemory = VK_NULL_HANDLE;
+  ASSERT_EQ(vkAllocateMemory(vk, &alloc, nullptr, &readbackMemory), VK_SUCCESS);
+  vkBindBufferMemory(vk, readback, readbackMemory, 0);
+
+  // Pass 0 clears and writes depth (the backdrop's); pass 1 loads both, depth read-only
+  // (Lava's lines and glow). Their layouts stay as the subpass uses them: the host's
+  // barriers between the passes transition them, as in dynamic rendering.
+  VkRenderPass passes[2];
+  VkFramebuffer framebuffers[2];
+  for (int load = 0; load < 2; ++load) {
+    VkAttachmentDescription a[2]{};
+    a[0].format = kColor;
+    a[0].samples = VK_SAMPLE_COUNT_1_BIT;
+    a[0].loadOp = load ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;
+    a[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    a[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    a[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    a[0].initialLayout = a[0].finalLayout = kColorLayout;
+    a[1] = a[0];
+    a[1].format = kDepth;
+    a[1].storeOp = load ? VK_ATTACHMENT_STORE_OP_NONE : VK_ATTACHMENT_STORE_OP_STORE;
+    a[1].initialLayout = a[1].finalLayout = load ? kRead : kWrite;
+    const VkAttachmentReference color{0, kColorLayout}, depth{1, a[1].initialLayout};
+    VkSubpassDescription subpass{};
+    subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    subpass.colorAttachmentCount = 1;
+    subpass.pColorAttachments = &color;
+    subpass.pDepthStencilAttachment = &depth;
+    VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+    info.attachmentCount = 2;
+    info.pAttachments = a;
+    info.subpassCount = 1;
+    info.pSubpasses = &subpass;
+    ASSERT_EQ(vkCreateRenderPass(vk, &info, nullptr, &passes[load]), VK_SUCCESS);
+    const VkImageView views[2] = {images[0].view, images[1].view};
+    VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+    fb.renderPass = passes[load];
+    fb.attachmentCount = 2;
+    fb.pAttachments = views;
+    fb.width = extent.width;
+    fb.height = extent.height;
+    fb.layers = 1;
+    ASSERT_EQ(vkCreateFramebuffer(vk, &fb, nullptr, &framebuffers[load]), VK_SUCCESS);
+  }
+
+  const auto barrier = [](VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect,
+                          VkImageLayout from, VkImageLayout to, VkPipelineStageFlags srcStage,
+                          VkAccessFlags srcAccess, VkPipelineStageFlags dstStage,
+                          VkAccessFlags dstAccess) {
+    VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+    b.srcAccessMask = srcAccess;
+    b.dstAccessMask = dstAccess;
+    b.oldLayout = from;
+    b.newLayout = to;
+    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = image;
+    b.subresourceRange = {aspect, 0, 1, 0, 1};
+    vkCmdPipelineBarrier(cmd, srcStage, dstStage, 0, 0, nullptr, 0, nullptr, 1, &b);
+  };
+  constexpr VkPipelineStageFlags kTests =
+      VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+  constexpr VkPipelineStageFlags kColorStage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+  constexpr VkAccessFlags kColorAccess =
+      VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  // 12 frames (lines, then the splat, alternating) in passes or in dynamic rendering; the
+  // last frame's pixels.
+  const auto run = [&](bool renderPasses) {
+    Device device(host.handles);
+    GpuSimulation gpu(device, scene);
+    RenderFormats backdropTarget{kColor, kDepth}, linesTarget{kColor, kDepth};
+    if (renderPasses) {
+      backdropTarget.renderPass = passes[0];
+      linesTarget.renderPass = passes[1];
+    }
+    Backdrop backdrop(device, backdropTarget);
+    LineRenderer lines(device, linesTarget);
+    lines.setExtent(extent);
+    HostFrames frames(vk, device.framesInFlight());
+    OrbitCamera camera;
+    const View view{camera.viewProj(float(extent.width) / float(extent.height)), extent,
+                    camera.eye()};
+    const auto begin = [&](VkCommandBuffer cmd, bool load) {
+      if (renderPasses) {
+        VkClearValue clear[2]{};
+        clear[0].color = {{0.01f, 0.01f, 0.02f, 1.0f}};
+        clear[1].depthStencil = {1.0f, 0};
+        VkRenderPassBeginInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+        info.renderPass = passes[load];
+        info.framebuffer = framebuffers[load];
+        info.renderArea = {{0, 0}, extent};
+        info.clearValueCount = 2;
+        info.pClearValues = clear;
+        vkCmdBeginRenderPass(cmd, &info, VK_SUBPASS_CONTENTS_INLINE);
+        return;
+      }
+      VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+      color.imageView = images[0].view;
+      color.imageLayout = kColorLayout;
+      color.loadOp = load ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;
+      color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+      color.clearValue.color = {{0.01f, 0.01f, 0.02f, 1.0f}};
+      VkRenderingAttachmentInfo depth = color;
+      depth.imageView = images[1].view;
+      depth.imageLayout = load ? kRead : kWrite;
+      depth.storeOp = load ? VK_ATTACHMENT_STORE_OP_NONE : VK_ATTACHMENT_STORE_OP_STORE;
+      depth.clearValue.depthStencil = {1.0f, 0};
+      VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+      info.renderArea = {{0, 0}, extent};
+      info.layerCount = 1;
+      info.colorAttachmentCount = 1;
+      info.pColorAttachments = &color;
+      info.pDepthAttachment = &depth;
+      vkCmdBeginRendering(cmd, &info);
+    };
+    const auto end = [&](VkCommandBuffer cmd) {
+      if (renderPasses)
+        vkCmdEndRenderPass(cmd);
+      else
+        vkCmdEndRendering(cmd);
+    };
+    constexpr uint32_t kFrames = 12;
+    for (uint32_t frame = 0; frame < kFrames; ++frame) {
+      const uint32_t slot = frame % device.framesInFlight();
+      lines.setMode(frame % 2 ? LineMode::Splat : LineMode::Lines);
+      VkCommandBuffer cmd = frames.begin(slot);
+      gpu.update(slot, 13);
+      gpu.recordSimulate(cmd, slot);
+      // WAR: the last frame's lines, splat and copy read these images.
+      barrier(cmd, images[0].image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+              kColorLayout, kColorStage | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, kColorStage,
+              kColorAccess);
+      barrier(cmd, images[1].image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED, kWrite,
+              kTests | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, kTests,
+              VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
+                  VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+      begin(cmd, false);
+      backdrop.recordDraw(cmd, view, scene);
+      end(cmd);
+      // RAW: the second pass loads the colour; the splat samples the depth, the lines test
+      // against it.
+      barrier(cmd, images[0].image, VK_IMAGE_ASPECT_COLOR_BIT, kColorLayout, kColorLayout,
+              kColorStage, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, kColorStage, kColorAccess);
+      barrier(cmd, images[1].image, VK_IMAGE_ASPECT_DEPTH_BIT, kWrite, kRead, kTests,
+              VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+              kTests | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+              VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
+      lines.recordPrepare(cmd, slot, gpu, view, images[1].view);
+      begin(cmd, true);
+      lines.recordDraw(cmd, slot, gpu, view);
+      end(cmd);
+      if (frame + 1 == kFrames) {
+        barrier(cmd, images[0].image, VK_IMAGE_ASPECT_COLOR_BIT, kColorLayout,
+                VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, kColorStage,
+                VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                VK_ACCESS_TRANSFER_READ_BIT);
+        VkBufferImageCopy region{};
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = {extent.width, extent.height, 1};
+        vkCmdCopyImageToBuffer(cmd, images[0].image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                               readback, 1, &region);
+        VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr,
+                               VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT};
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0,
+                             1, &toHost, 0, nullptr, 0, nullptr);
+      }
+      frames.submit(host.handles.queue, slot);
+    }
+    vkDeviceWaitIdle(vk);
+    void* mapped = nullptr;
+    EXPECT_EQ(vkMapMemory(vk, readbackMemory, 0, bytes, 0, &mapped), VK_SUCCESS);
+    std::vector<uint8_t> pixels(static_cast<const uint8_t*>(mapped),
+                                static_cast<const uint8_t*>(mapped) + bytes);
+    vkUnmapMemory(vk, readbackMemory);
+    return pixels;
+  };
+  const std::vector<uint8_t> dynamic = run(false), passed = run(true);
+  size_t lit = 0, differ = 0;
+  for (size_t i = 0; i < dynamic.size(); i += 4) {
+    lit += dynamic[i + 2] > 150;  // red: lava over the dark backdrop
+    differ += std::memcmp(&dynamic[i], &passed[i], 4) != 0;
+  }
+  EXPECT_GT(lit, 100u);
+  EXPECT_EQ(differ, 0u) << "of " << dynamic.size() / 4 << " pixels";
+
+  // Without dynamic rendering enabled, pipelines for formats are refused, passes taken.
+  {
+    DeviceHandles handles = host.handles;
+    handles.dynamicRendering = false;
+    Device device(handles);
+    EXPECT_THROW(LineRenderer(device, {kColor, kDepth}), InvalidArgument);
+    EXPECT_THROW(Backdrop(device, {kColor, kDepth}), InvalidArgument);
+    LineRenderer lines(device, {kColor, kDepth, passes[1]});
+    Backdrop backdrop(device, {kColor, kDepth, passes[0]});
+  }
+
+  for (int i = 0; i < 2; ++i) {
+    vkDestroyFramebuffer(vk, framebuffers[i], nullptr);
+    vkDestroyRenderPass(vk, passes[i], nullptr);
+    vkDestroyImageView(vk, images[i].view, nullptr);
+    vkDestroyImage(vk, images[i].image, nullptr);
+    vkFreeMemory(vk, images[i].memory, nullptr);
+  }
+  vkDestroyBuffer(vk, readback, nullptr);
+  vkFreeMemory(vk, readbackMemory, nullptr);
+  for (const std::string& m : host.messages) ADD_FAILURE() << "validation: " << m;
+}
+
 // Two simulations on one borrowed device, each built and recorded on a thread of its own
 // into the host's command buffers (the host serialises its queue submissions, as Vulkan
 // requires): both equal the CPU reference.

@@ -46,6 +46,10 @@ struct DeviceHandles {
   // shaderBufferInt64Atomics when int64Atomics is set (InvalidArgument naming the feature).
   // Read only in the Device constructor.
   const VkPhysicalDeviceFeatures2* enabledFeatures = nullptr;
+  // Whether the device was created with dynamic rendering (see DeviceRequirements). A host
+  // that draws only into render passes may leave it off; then give every LineRenderer and
+  // Backdrop a render pass (RenderFormats::renderPass).
+  bool dynamicRendering = true;
   // The host's frames in flight: how many fences guard its frames (see
   // Device::setFramesInFlight), 1 to 16.
   uint32_t framesInFlight = 2;
@@ -55,8 +59,10 @@ struct DeviceHandles {
 struct DeviceRequirements {
   uint32_t apiVersion;                  // at least this Vulkan version
   std::vector<const char*> extensions;  // device extensions to enable
-  bool dynamicRendering;                // VkPhysicalDeviceVulkan13Features::dynamicRendering
-                                        // (or VkPhysicalDeviceDynamicRenderingFeatures)
+  // VkPhysicalDeviceVulkan13Features::dynamicRendering (or
+  // VkPhysicalDeviceDynamicRenderingFeatures): the device must offer it; enable it unless
+  // Lava draws only into render passes (DeviceHandles::dynamicRendering).
+  bool dynamicRendering;
   // Optional, where the device offers them: VkPhysicalDeviceFeatures::shaderInt64 and
   // shaderBufferInt64Atomics (Vulkan 1.2), then DeviceHandles::int64Atomics = true.
   bool int64Atomics;

@@ -1,6 +1,6 @@
 // Drawing a GpuSimulation into the host's images: each alive particle is the line from x to
 // x + lineScale * v, read straight from the buffers the compute shader wrote. Pipelines are
-// built for formats (dynamic rendering), never for a host's render pass.
+// built for the host's formats (dynamic rendering) or for its render pass and subpass.
 #pragma once
 #include <vulkan/vulkan.h>
 
@@ -16,10 +16,19 @@ namespace lava {
 
 class GpuSimulation;
 
-// The host's attachments: a color format, and a depth format or VK_FORMAT_UNDEFINED.
+// Where Lava draws: the host's attachments, a color format and a depth format or
+// VK_FORMAT_UNDEFINED (none), in dynamic rendering; or, with `renderPass`, subpass `subpass`
+// of that render pass (or of one compatible with it: the same attachments' formats and
+// sample counts), as Dear ImGui's backend does. The subpass has one color attachment, single
+// sampled, and a depth attachment exactly when `depth` is not UNDEFINED (Lava only tests
+// against it: its layout may be DEPTH_STENCIL_READ_ONLY_OPTIMAL; the Backdrop writes it).
+// Lava's barriers are recorded outside the pass, so the subpass needs no dependency for
+// Lava's own work; the host's dependencies cover its attachments as for any draw.
 struct RenderFormats {
   VkFormat color = VK_FORMAT_R8G8B8A8_UNORM;
   VkFormat depth = VK_FORMAT_D32_SFLOAT;
+  VkRenderPass renderPass = VK_NULL_HANDLE;  // none: dynamic rendering
+  uint32_t subpass = 0;
 };
 
 // What is drawn from where, into a target of which size.
@@ -95,7 +104,8 @@ class LAVA_API LineRenderer {
   void recordPrepare(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
                      const View& view, VkImageView depth = VK_NULL_HANDLE);
   // Inside the host's dynamic rendering scope (vkCmdBeginRendering) with the formats given
-  // at construction (a UNORM colour target: the lava look blends src (1 - dst) + dst):
+  // at construction, or in the render pass's subpass given (a UNORM colour target: the lava
+  // look blends src (1 - dst) + dst):
   // draws the lines, depth-tested against the depth attachment (not written; it may be in
   // DEPTH_STENCIL_READ_ONLY_OPTIMAL), then the glow. Sets viewport, scissor, pipeline and
   // push constants. Records only.
@@ -122,7 +132,8 @@ class LAVA_API Backdrop {
   Backdrop(const Backdrop&) = delete;
   Backdrop& operator=(const Backdrop&) = delete;
 
-  // Inside dynamic rendering with the formats given at construction, the solids, opaque,
+  // Inside dynamic rendering with the formats given at construction (or the render pass's
+  // subpass given), the solids, opaque,
   // writing depth, and in the lava look a sky where the depth is still the far plane (the
   // depth cleared to 1; without a depth format the sky is drawn first). Records only.
   void recordDraw(VkCommandBuffer commands, const View& view, const Scene& scene,

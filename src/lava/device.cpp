@@ -425,13 +425,14 @@ void checkEnabledFeatures(const DeviceHandles& h, uint32_t apiVersion) {
         break;
     }
   }
-  if (!dynamicRendering)
+  if (h.dynamicRendering && !dynamicRendering)
     throw InvalidArgument("enabledFeatures",
                           std::string("the device was created without dynamicRendering (") +
                               (apiVersion >= VK_API_VERSION_1_3
                                    ? "VkPhysicalDeviceVulkan13Features"
                                    : "VkPhysicalDeviceDynamicRenderingFeatures") +
-                              "): Lava draws with dynamic rendering");
+                              "), but DeviceHandles::dynamicRendering is set: enable it, or "
+                              "clear the flag and give Lava render passes");
   if (h.int64Atomics && !h.enabledFeatures->features.shaderInt64)
     throw InvalidArgument("int64Atomics",
                           "set, but the device was created without shaderInt64 "

@@ -23,16 +23,15 @@ struct Backdrop::Impl {
 Backdrop::Backdrop(Device& device, const RenderFormats& formats)
     : impl_(std::make_unique<Impl>(Impl{device.context(), {}, {}})) {
   Impl& m = *impl_;
+  detail::checkTarget(m.c, formats);
   m.layout = detail::createPipelineLayout(m.c, VK_NULL_HANDLE,
                                           VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT,
                                           sizeof(gpu::BackdropParams));
   const detail::GraphicsPipelineDesc solids{LAVA_SPIRV(spirv::kGroundVertSpv),
-                                            LAVA_SPIRV(spirv::kGroundFragSpv), formats.color,
-                                            formats.depth};
+                                            LAVA_SPIRV(spirv::kGroundFragSpv), formats};
   m.pipeline = detail::createGraphicsPipeline(m.c, m.layout, solids);
   detail::GraphicsPipelineDesc sky{LAVA_SPIRV(spirv::kSkyVertSpv),
-                                   LAVA_SPIRV(spirv::kLinesFragSpv), formats.color,
-                                   formats.depth};
+                                   LAVA_SPIRV(spirv::kLinesFragSpv), formats};
   sky.depthWrite = false;
   m.sky = detail::createGraphicsPipeline(m.c, m.layout, sky);
   m.hasDepth = formats.depth != VK_FORMAT_UNDEFINED;

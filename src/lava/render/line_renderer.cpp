@@ -120,12 +120,12 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats)
     : impl_(std::make_unique<Impl>(device.context(), formats)) {
   Impl& m = *impl_;
   const detail::DeviceContext& c = m.c;
+  detail::checkTarget(c, formats);
   m.lineSet = detail::createSetLayout(c, {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
                                       VK_SHADER_STAGE_VERTEX_BIT);
   m.lineLayout = detail::createPipelineLayout(c, m.lineSet, kDrawStages, sizeof(gpu::DrawParams));
   detail::GraphicsPipelineDesc lines{LAVA_SPIRV(spirv::kLinesVertSpv),
-                                     LAVA_SPIRV(spirv::kLinesFragSpv), formats.color,
-                                     formats.depth};
+                                     LAVA_SPIRV(spirv::kLinesFragSpv), formats};
   lines.topology = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
   lines.additive = true;
   lines.depthWrite = false;  // glowing lines do not occlude
@@ -207,7 +207,7 @@ void LineRenderer::Impl::createSizedPipelines(bool sumsTexels, bool cellsTexels)
   detail::GraphicsPipelineDesc resolve{
       LAVA_SPIRV(spirv::kResolveVertSpv),
       sumsTexels ? LAVA_SPIRV(spirv::kResolveFragSpv) : LAVA_SPIRV(spirv::kResolveBufferFragSpv),
-      formats.color, formats.depth};
+      formats};
   resolve.additive = true;
   resolve.depthTest = false;
   resolve.depthWrite = false;
@@ -222,7 +222,7 @@ void LineRenderer::Impl::createSizedPipelines(bool sumsTexels, bool cellsTexels)
       detail::createPipelineLayout(c, glowDrawSet, kDrawStages, sizeof(gpu::GlowParams));
   detail::GraphicsPipelineDesc quads{
       cellsTexels ? LAVA_SPIRV(spirv::kGlowVertSpv) : LAVA_SPIRV(spirv::kGlowVertBufferSpv),
-      LAVA_SPIRV(spirv::kGlowFragSpv), formats.color, formats.depth};
+      LAVA_SPIRV(spirv::kGlowFragSpv), formats};
   quads.screen = true;
   quads.depthTest = false;
   quads.depthWrite = false;

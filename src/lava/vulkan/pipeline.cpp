@@ -1,6 +1,7 @@
 #include "pipeline.h"
 
 #include "common/check.h"
+#include "lava/error.h"
 
 namespace lava::detail {
 namespace {
@@ -67,7 +68,7 @@ UniquePipeline createGraphicsPipeline(const DeviceContext& c, VkPipelineLayout l
   VkPipelineMultisampleStateCreateInfo multisample{
       VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
   multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-  const bool depth = desc.depthFormat != VK_FORMAT_UNDEFINED;
+  const bool depth = desc.target.depth != VK_FORMAT_UNDEFINED;
   VkPipelineDepthStencilStateCreateInfo depthStencil{
       VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
   depthStencil.depthTestEnable = depth && desc.depthTest;
@@ -94,13 +95,19 @@ UniquePipeline createGraphicsPipeline(const DeviceContext& c, VkPipelineLayout l
   VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
   dynamic.dynamicStateCount = 2;
   dynamic.pDynamicStates = dynamics;
+  // For the host's render pass and subpass, or for dynamic rendering with these formats.
   VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
   rendering.colorAttachmentCount = 1;
-  rendering.pColorAttachmentFormats = &desc.colorFormat;
-  rendering.depthAttachmentFormat = desc.depthFormat;
+  rendering.pColorAttachmentFormats = &desc.target.color;
+  rendering.depthAttachmentFormat = desc.target.depth;
 
   VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-  info.pNext = &rendering;
+  if (desc.target.renderPass) {
+    info.renderPass = desc.target.renderPass;
+    info.subpass = desc.target.subpass;
+  } else {
+    info.pNext = &rendering;
+  }
   info.stageCount = 2;
   info.pStages = stages;
   info.pVertexInputState = &vertexInput;
@@ -116,6 +123,14 @@ UniquePipeline createGraphicsPipeline(const DeviceContext& c, VkPipelineLayout l
   VK_CHECK(c.vk.CreateGraphicsPipelines(c.device(), c.handles.pipelineCache, 1, &info,
                                         c.allocator(), &pipeline));
   return UniquePipeline(c, pipeline);
+}
+
+void checkTarget(const DeviceContext& c, const RenderFormats& target) {
+  if (!target.renderPass && !c.handles.dynamicRendering)
+    throw InvalidArgument("formats",
+                          "no render pass given, and the device was created without dynamic "
+                          "rendering (DeviceHandles::dynamicRendering): give "
+                          "RenderFormats::renderPass");
 }
 
 }  // namespace lava::detail

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "device_context.h"
+#include "lava/renderer.h"
 #include "unique.h"
 
 namespace lava::detail {
@@ -29,8 +30,7 @@ UniquePipeline createComputePipeline(const DeviceContext& context, VkPipelineLay
 struct GraphicsPipelineDesc {
   Spirv vert;
   Spirv frag;
-  VkFormat colorFormat;
-  VkFormat depthFormat = VK_FORMAT_UNDEFINED;  // none: no depth test or write
+  RenderFormats target;  // its depth format UNDEFINED: no depth test or write
   VkPrimitiveTopology topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
   bool additive = false;  // blend ONE + ONE onto the target
   // Blend src (1 - dst) + dst: colours in [0, 1) compose as 1 - (1 - a)(1 - b), so a target
@@ -39,6 +39,10 @@ struct GraphicsPipelineDesc {
   bool depthTest = true;
   bool depthWrite = true;
 };
+
+// InvalidArgument ("formats") for pipelines for dynamic rendering on a device created
+// without it.
+void checkTarget(const DeviceContext& context, const RenderFormats& target);
 
 // No vertex input; dynamic viewport and scissor.
 UniquePipeline createGraphicsPipeline(const DeviceContext& context, VkPipelineLayout layout,
