@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # The installed library on a fresh prefix: `cmake --install` of this build; its include/ holds only lava/;
 # the scenes under share/lava/scenes, named by the CMake package and pkg-config;
-# every symbol of the library is lava's or a dependency's; examples/embed and
-# examples/headless configure, build and run against it with find_package(Lava); the
+# every symbol of the library is lava's or a dependency's; examples/embed,
+# examples/headless and examples/renderpass configure, build and run against it with
+# find_package(Lava) (the render-pass host in a window under Xvfb, resized as it runs); the
 # headless example also builds as one file with `pkg-config --cflags --libs lava`. The
-# examples run on the pinned driver with the validation layer (embed fails on a message).
+# examples run on the pinned driver with the validation layer and synchronization
+# validation (embed and renderpass fail on a message).
 set -euo pipefail
 build=$1
 source=$2
@@ -26,14 +28,31 @@ library=$(readlink -f "$prefix/lib/liblava.so")
 readelf -d "$library" | grep -q 'SONAME.*liblava.so.0' || { echo "FAIL: no SONAME"; exit 1; }
 /usr/bin/python3 "$source/tests/check_symbols.py" "$library"
 
-for example in embed headless; do
+for example in embed headless renderpass; do
   cmake -S "$source/examples/$example" -B "$work/$example" -DCMAKE_PREFIX_PATH="$prefix" \
         -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS="$flags" >/dev/null
   cmake --build "$work/$example" -j2 >/dev/null
+  [ $example = renderpass ] && continue  # it needs a window: below
   out=$("$work/$example/lava_$example")
   echo "$out"
 done
 echo "$out" | grep -q "bit-identical" || { echo "FAIL: headless did not compare"; exit 1; }
+
+# The render-pass host: 240 frames in a window, made smaller after its first second.
+cat > "$work/renderpass.sh" <<RUN
+"$work/renderpass/lava_renderpass" 240 > "$work/renderpass.txt" 2>&1 &
+pid=\$!
+window=\$(timeout 60 xdotool search --sync --name '^Lava in render passes\$' | head -1)
+sleep 1
+[ -n "\$window" ] && xdotool windowsize "\$window" 480 270
+wait \$pid
+RUN
+status=0
+xvfb-run -a -s "-screen 0 800x600x24" bash "$work/renderpass.sh" || status=$?
+cat "$work/renderpass.txt"
+[ $status -eq 0 ] || { echo "FAIL: the render-pass example exited $status"; exit 1; }
+grep -q "at 480x270, .* bit-identical" "$work/renderpass.txt" ||
+  { echo "FAIL: the render-pass example did not draw at its new size"; exit 1; }
 
 # Validation turned on the usual way as well: the loader's notice about it is no failure.
 VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation \
