@@ -57,15 +57,19 @@ struct DeviceHandles {
 
 // What a device must offer Lava: create it with these (vk-bootstrap or by hand).
 struct DeviceRequirements {
-  uint32_t apiVersion;                  // at least this Vulkan version
+  // The lowest VkApplicationInfo::apiVersion of the host's instance (1.2): the instance's
+  // version caps what Lava sees of the device. A Vulkan 1.3 device under a 1.2 instance needs
+  // VK_KHR_dynamic_rendering enabled like a 1.2 device (deviceRequirements(VK_API_VERSION_1_2)
+  // lists it); an older instance hides dynamic rendering, and Device names its version.
+  uint32_t instanceApiVersion = 0;
   std::vector<const char*> extensions;  // device extensions to enable
   // VkPhysicalDeviceVulkan13Features::dynamicRendering (or
   // VkPhysicalDeviceDynamicRenderingFeatures): the device must offer it; enable it unless
   // Lava draws only into render passes (DeviceHandles::dynamicRendering).
-  bool dynamicRendering;
+  bool dynamicRendering = false;
   // Optional, where the device offers them: VkPhysicalDeviceFeatures::shaderInt64 and
   // shaderBufferInt64Atomics (Vulkan 1.2), then DeviceHandles::int64Atomics = true.
-  bool int64Atomics;
+  bool int64Atomics = false;
   // Optional, where the device offers them (then set DeviceHandles::pushDescriptors):
   // VK_KHR_push_descriptor.
   std::vector<const char*> optionalExtensions;

@@ -91,9 +91,12 @@ class LAVA_API LineRenderer {
   // `frame`'s splat pass (a fill, then compute); in the lava look, its glow passes (fills,
   // then compute); their results made visible to the draw (DRAW_INDIRECT, VERTEX_SHADER,
   // FRAGMENT_SHADER reads). `depth` (optional): a view of the scene's depth (the format
-  // given at construction) that the splat tests against as the pipeline's depth test
-  // does, in VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL, its writes made visible to
-  // COMPUTE_SHADER reads by the host. Records only: no submission or wait. The first call
+  // given at construction; the image made with VK_IMAGE_USAGE_SAMPLED_BIT besides
+  // DEPTH_STENCIL_ATTACHMENT) that the splat tests against as the pipeline's depth test
+  // does. It must be complete when this is recorded: written in an earlier rendering pass
+  // (the Backdrop's), then in VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL, its writes
+  // made visible to COMPUTE_SHADER reads by the host's barrier (or its pass's dependency);
+  // docs/library.md, "The frame recipe". Records only: no submission or wait. The first call
   // (and the first after setExtent()) also records the renderer's set-up, and the
   // simulation's recordInit() when still due.
   // It starts slot `frame`'s frame: the host's previous submission that used `frame` must
@@ -105,10 +108,10 @@ class LAVA_API LineRenderer {
                      const View& view, VkImageView depth = VK_NULL_HANDLE);
   // Inside the host's dynamic rendering scope (vkCmdBeginRendering) with the formats given
   // at construction, or in the render pass's subpass given (a UNORM colour target: the lava
-  // look blends src (1 - dst) + dst):
+  // look blends src (1 - dst) + dst), the colour attachment in COLOR_ATTACHMENT_OPTIMAL:
   // draws the lines, depth-tested against the depth attachment (not written; it may be in
-  // DEPTH_STENCIL_READ_ONLY_OPTIMAL), then the glow. Sets viewport, scissor, pipeline and
-  // push constants. Records only.
+  // DEPTH_STENCIL_READ_ONLY_OPTIMAL, as the view given to recordPrepare() is), then the
+  // glow. Sets viewport, scissor, pipeline and push constants. Records only.
   void recordDraw(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
                   const View& view) const;
 
@@ -133,7 +136,8 @@ class LAVA_API Backdrop {
   Backdrop& operator=(const Backdrop&) = delete;
 
   // Inside dynamic rendering with the formats given at construction (or the render pass's
-  // subpass given), the solids, opaque,
+  // subpass given), colour in COLOR_ATTACHMENT_OPTIMAL and depth writable
+  // (DEPTH_ATTACHMENT_OPTIMAL or DEPTH_STENCIL_ATTACHMENT_OPTIMAL): the solids, opaque,
   // writing depth, and in the lava look a sky where the depth is still the far plane (the
   // depth cleared to 1; without a depth format the sky is drawn first). Records only.
   void recordDraw(VkCommandBuffer commands, const View& view, const Scene& scene,

@@ -372,7 +372,11 @@ void createLogicalDevice(DeviceContext& c, const DeviceOptions& options) {
 }  // namespace
 
 DeviceRequirements deviceRequirements(uint32_t deviceApiVersion) {
-  DeviceRequirements r{VK_API_VERSION_1_2, {}, true, true, {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME}};
+  DeviceRequirements r;
+  r.instanceApiVersion = VK_API_VERSION_1_2;
+  r.dynamicRendering = true;
+  r.int64Atomics = true;
+  r.optionalExtensions = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
   if (deviceApiVersion < VK_API_VERSION_1_3)
     r.extensions.push_back(VK_KHR_DYNAMIC_RENDERING_EXTENSION_NAME);
   return r;
