@@ -1,18 +1,21 @@
 #!/usr/bin/python3
 """Lava from Python, as a notebook would use it: the same scene on both backends, compared
-bit for bit, then one particle's trajectory plotted.
+bit for bit, a frame rendered into an array, then one particle's trajectory plotted.
 
-    PYTHONPATH=build/python docs/python_example.py docs/python-trajectory.png
-Needs matplotlib (Debian: python3-matplotlib) for the plot.
+    .venv/bin/python docs/python_example.py docs   # writes python-render.png, python-trajectory.png
+Needs matplotlib (Debian: python3-matplotlib) for the pictures.
 """
+import os
 import sys
 
 import numpy as np
 
 import lava
 
+folder = sys.argv[1] if len(sys.argv) > 1 else "."
+
 # 1. The volcano preset on the GPU and on the CPU reference: the same bytes.
-scene = "scenes/volcano.toml"
+scene = lava.Scene("scenes/volcano.toml")
 gpu = lava.simulate(2000, backend="gpu", scene=scene)
 cpu = lava.simulate(2000, backend="cpu", scene=scene, threads=0)
 alive = gpu[:, 6] >= 0
@@ -21,16 +24,20 @@ print(f"{alive.sum()} of {len(gpu)} slots alive; GPU and CPU bit-identical: "
 print("validate:", {k: v for k, v in lava.validate(2000, every=500, scene=scene).items()
                     if k != "checkpoints"})
 
-# 2. One particle step by step (the CPU backend's memory is viewed without a copy): a
-# single vent particle launched at 45 degrees with three integrators.
+# 2. A frame of it, as `lava render` would write it, straight into an array.
 import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+frame = lava.render(scene, frames=1, size=(640, 360))[0]  # uint8 (360, 640, 3)
+plt.imsave(os.path.join(folder, "python-render.png"), frame)
+
+# 3. One particle step by step (the CPU backend's memory is viewed without a copy): a
+# single vent particle launched at 45 degrees with three integrators.
 fig, ax = plt.subplots(figsize=(7, 4))
 for integrator in ("explicit-euler", "semi-implicit-euler", "velocity-verlet"):
-    sim = lava.Simulation("cpu", particles=1, rate=0, burst=1, spread=(0, 0, 0),
+    sim = lava.Simulation(backend="cpu", particles=1, rate=0, burst=1, spread=(0, 0, 0),
                           emitter_radius=0, velocity=(3, 3, 0), restitution=0.6,
                           integrator=integrator, dt=0.02)
     path = []
@@ -44,4 +51,4 @@ ax.set_ylabel("y (m)")
 ax.set_title("One lava particle, h = 20 ms, bouncing off the ground")
 ax.legend()
 fig.tight_layout()
-fig.savefig(sys.argv[1] if len(sys.argv) > 1 else "trajectory.png", dpi=100)
+fig.savefig(os.path.join(folder, "python-trajectory.png"), dpi=100)

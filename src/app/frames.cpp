@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <cstring>
 
-#include "common/steps.h"
 #include "host/frame_renderer.h"
 #include "host/offscreen.h"
 #include "host/output.h"
@@ -103,28 +102,24 @@ LineMode defaultLineMode(uint64_t particles) {
 double renderFrames(Device& device, const Scene& scene, const FramePlan& plan) {
   checkSize(device, plan.size);
   createOutputFolder(plan.folder);
-  GpuSimulation simulation(device, scene);
-  host::FrameRenderer renderer(device, host::OffscreenTarget::kColorFormat, plan.look.style);
-  renderer.setLineMode(plan.lines);
-  renderer.setSettings(plan.look.settings);
-  const host::OffscreenTarget target(device, plan.size);
-  const host::Submitter submitter(device);
-  OrbitCamera camera;
-  simulation.advance(scene.stepsIn(plan.warmup));
-  const double stepsPerFrame = 1.0 / (plan.fps * double(scene.h()));
-  common::StepAccumulator owed;
   Progress progress("render", plan.frames);
   const auto start = std::chrono::steady_clock::now();
-  for (uint32_t frame = 0; frame < plan.frames; ++frame) {
-    if (frame > 0) simulation.advance(owed.take(stepsPerFrame));
-    camera.yaw = 0.6f + 0.15f * float(frame / plan.fps);  // a slow orbit
-    const std::vector<uint8_t> pixels =
-        host::renderOffscreen(submitter, renderer, simulation, target, camera);
-    char name[32];
-    std::snprintf(name, sizeof(name), "/frame_%05u.png", frame);
-    host::writePng(plan.folder + name, plan.size.width, plan.size.height, pixels);
-    progress.update(frame + 1);
-  }
+  host::FrameRun run;
+  run.frames = plan.frames;
+  run.fps = plan.fps;
+  run.size = plan.size;
+  run.warmup = plan.warmup;
+  run.lines = plan.lines;
+  run.style = plan.look.style;
+  run.look = plan.look.settings;
+  host::renderFrames(device, scene, run,
+                     [&](uint32_t frame, const std::vector<uint8_t>& pixels) {
+                       char name[32];
+                       std::snprintf(name, sizeof(name), "/frame_%05u.png", frame);
+                       host::writePng(plan.folder + name, plan.size.width, plan.size.height,
+                                      pixels);
+                       progress.update(frame + 1);
+                     });
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 

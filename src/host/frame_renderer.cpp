@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include "common/steps.h"
+
 namespace lava::host {
 namespace {
 
@@ -266,6 +268,25 @@ std::vector<uint8_t> renderOffscreen(const Submitter& submitter, FrameRenderer& 
     target.recordReadback(commands);
   });
   return target.pixels();
+}
+
+void renderFrames(Device& device, const Scene& scene, const FrameRun& run,
+                  const std::function<void(uint32_t, const std::vector<uint8_t>&)>& sink) {
+  GpuSimulation simulation(device, scene);
+  FrameRenderer renderer(device, OffscreenTarget::kColorFormat, run.style);
+  renderer.setLineMode(run.lines);
+  renderer.setSettings(run.look);
+  const OffscreenTarget target(device, run.size);
+  const Submitter submitter(device);
+  OrbitCamera camera;
+  simulation.advance(scene.stepsIn(run.warmup));
+  const double stepsPerFrame = 1.0 / (run.fps * double(scene.h()));
+  common::StepAccumulator owed;
+  for (uint32_t frame = 0; frame < run.frames; ++frame) {
+    if (frame > 0) simulation.advance(owed.take(stepsPerFrame));
+    camera.yaw = 0.6f + 0.15f * float(frame / run.fps);  // a slow orbit
+    sink(frame, renderOffscreen(submitter, renderer, simulation, target, camera));
+  }
 }
 
 }  // namespace lava::host

@@ -79,4 +79,21 @@ std::vector<uint8_t> renderOffscreen(const Submitter& submitter, FrameRenderer& 
                                      const GpuSimulation& simulation, const OffscreenTarget& target,
                                      const OrbitCamera& camera);
 
+// A run of offscreen frames, as `lava render` and Python's lava.render make them: the scene
+// simulated `warmup` seconds, then a frame every 1/fps simulated seconds as the camera
+// orbits slowly.
+struct FrameRun {
+  uint32_t frames = 1;
+  double fps = 30.0;
+  VkExtent2D size{1280, 720};
+  double warmup = 3.0;  // s
+  LineMode lines = LineMode::Lines;
+  LookStyle style = LookStyle::Lava;
+  LookSettings look;
+};
+// `sink` receives each frame's RGBA8 pixels (rows of size.width, top first) in order; an
+// exception from it ends the run.
+void renderFrames(Device& device, const Scene& scene, const FrameRun& run,
+                  const std::function<void(uint32_t frame, const std::vector<uint8_t>& rgba)>& sink);
+
 }  // namespace lava::host

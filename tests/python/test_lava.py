@@ -57,7 +57,7 @@ def test_validate_reports_checkpoints_and_no_divergence():
 
 
 def test_simulation_advances_and_the_cpu_view_needs_no_copy():
-    sim = lava.Simulation("cpu", rate=2000)
+    sim = lava.Simulation(backend="cpu", rate=2000)
     sim.advance(300)
     view = sim.particles
     assert view.shape == (5000, 8) and not view.flags["OWNDATA"] and not view.flags["WRITEABLE"]
@@ -66,7 +66,7 @@ def test_simulation_advances_and_the_cpu_view_needs_no_copy():
     assert sim.step == 310
     assert not np.array_equal(view[0], before)  # the same memory, moved on
     assert np.array_equal(sim.state(), lava.simulate(310, backend="cpu", rate=2000))
-    gpu = lava.Simulation("gpu", rate=2000)
+    gpu = lava.Simulation(backend="gpu", rate=2000)
     gpu.advance(310)
     assert np.array_equal(gpu.state(), sim.state())
     assert np.array_equal(gpu.particles, np.array(view))
