@@ -370,6 +370,45 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
           "forces", [](const lava::Scene& s) { return s.forces.size(); }, "Forces.")
       .def_property_readonly(
           "colliders", [](const lava::Scene& s) { return s.colliders.size(); }, "Colliders.")
+      .def(
+          "to_dict",
+          [](const lava::Scene& scene) {
+            return py::module_::import("tomllib").attr("loads")(lava::toToml(scene));
+          },
+          "The scene as a dict of its TOML: top-level keys, and lists of tables under\n"
+          "'emitter', 'force' and 'collider' (a copy: edit with set()).")
+      .def(
+          "__getattr__",
+          [](const lava::Scene& scene, const std::string& name) -> py::object {
+            std::string key = name;
+            std::replace(key.begin(), key.end(), '_', '-');
+            const py::dict all =
+                py::module_::import("tomllib").attr("loads")(lava::toToml(scene));
+            if (key != "format" && all.contains(key) && !py::isinstance<py::list>(all[key.c_str()]))
+              return all[key.c_str()];
+            throw py::attribute_error("lava.Scene has no top-level key '" + name + "'");
+          },
+          py::arg("name"), "Top-level keys read as attributes: scene.dt, scene.gravity, scene.line_scale.")
+      .def(
+          "__setattr__",
+          [](lava::Scene& scene, const std::string& name, const py::object& value) {
+            std::string key = name;
+            std::replace(key.begin(), key.end(), '_', '-');
+            for (const lava::SceneKey& k : lava::sceneKeys(lava::KeyTable::Top))
+              if (k.name == key) {
+                lava::Scene edited = scene;
+                try {
+                  lava::setSceneKey(edited, lava::KeyTable::Top, 0, key, keyText(name, value));
+                  lava::checkScene(edited);
+                } catch (const lava::InvalidArgument& e) {
+                  throw py::value_error(e.what());
+                }
+                scene = edited;
+                return;
+              }
+            throw py::attribute_error("lava.Scene has no top-level key '" + name + "'");
+          },
+          py::arg("name"), py::arg("value"), "Top-level keys (emitter 0's included) set as attributes: scene.rate = 4000.")
       .def("__str__", &lava::toToml)
       .def("__repr__",
            [](const lava::Scene& s) {

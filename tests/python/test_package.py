@@ -101,6 +101,18 @@ def test_a_scene_loads_edits_prints_and_saves(tmp_path):
         lava.Scene(rate="fast")
     assert np.array_equal(lava.simulate(300, backend="cpu", scene=scene),
                           lava.simulate(300, backend="cpu", scene=str(path)))
+    # Top-level keys as attributes; every table in to_dict().
+    assert scene.dt == 0.001 and scene.line_scale == scene.to_dict()["line-scale"]
+    scene.gravity = 3.7  # Mars
+    scene.rate = 2500    # emitter 0's
+    assert scene.gravity == 3.7 and scene.to_dict()["emitter"][0]["rate"] == 2500
+    assert scene.to_dict()["collider"][0]["radius"] == 0.5
+    with pytest.raises(ValueError, match="gravity"):
+        scene.gravity = "strong"
+    with pytest.raises(AttributeError, match="gravty"):
+        scene.gravty = 1
+    with pytest.raises(AttributeError):
+        scene.emitter
 
 
 def test_a_checkpoint_resumes_bit_for_bit_on_another_backend(tmp_path):
