@@ -5,7 +5,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential clang cmake pkg-config
+  build-essential clang libfuzzer-14-dev cmake pkg-config
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   glslang-tools spirv-tools
   libglfw3-dev libx11-dev libxext-dev libglm-dev libgtest-dev

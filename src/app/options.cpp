@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "cli.h"
 #include "host/output.h"
 #include "lava/error.h"
 #include "lava/scene_keys.h"
@@ -160,6 +161,12 @@ void Options::resolve() {
       throw UsageError("--" + spec.name + " is required: " + spec.flag->get_description());
     }
   }
+  if (parseOnlyMode()) throw ParsedOnly();
+}
+
+bool& parseOnlyMode() {
+  static bool parseOnly = false;
+  return parseOnly;
 }
 
 }  // namespace lava::app

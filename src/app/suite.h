@@ -35,6 +35,9 @@ struct Case {
 // inline (flat keys, [[case.emitter]], [[case.force]], [[case.collider]]). Throws UsageError naming
 // the file, the case and the key.
 std::vector<Case> loadSuite(const std::string& path);
+// The same from the file's text; `path` names it, and its folder holds the scene files the
+// cases name.
+std::vector<Case> parseSuite(const std::string& text, const std::string& path);
 // Lava's own suite for `device`: every shape, force, collider and integrator, bursts,
 // lifetimes, fractional rates, a ring wrapping within one dispatch, more particles than one
 // binding holds on the least device, a serial crossing 2^32, the denormal rule, all at once.

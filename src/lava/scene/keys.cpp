@@ -310,6 +310,7 @@ std::vector<KeyDef> withDefaults(std::vector<KeyDef> keys) {
 }  // namespace
 
 std::string formatFloat(float value) {
+  if (value == 0.0f && std::signbit(value)) return "-0.0";  // TOML's -0 is the integer 0
   char text[32];
   for (int digits = 6; digits <= 9; ++digits) {
     std::snprintf(text, sizeof(text), "%.*g", digits, double(value));
@@ -319,6 +320,7 @@ std::string formatFloat(float value) {
 }
 
 std::string formatDouble(double value) {
+  if (value == 0.0 && std::signbit(value)) return "-0.0";
   char text[40];
   for (int digits = 6; digits <= 17; ++digits) {
     std::snprintf(text, sizeof(text), "%.*g", digits, value);

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "common/files.h"
+#include "common/toml_text.h"
 #include "keys.h"
 #include "lava/error.h"
 #include "lava/scene.h"
@@ -79,11 +80,15 @@ void readTables(Scene& scene, const std::string& file, const char* prefix, KeyTa
 Scene parseScene(const std::string& text, const std::string& file, const OtherKey& other) {
   toml::table root;
   try {
-    root = toml::parse(text, file);
+    root = toml::parse(common::asciiForToml(text), file);
   } catch (const toml::parse_error& e) {
     const auto& where = e.source().begin;
-    throw InvalidArgument(file, std::to_string(where.line) + ":" + std::to_string(where.column) +
-                                    ": not valid TOML (" + std::string(e.description()) + ")");
+    const std::string at = std::to_string(where.line) + ":" + std::to_string(where.column);
+    if (static_cast<unsigned char>(common::byteAt(text, where.line, where.column)) >= 0x80 ||
+        (common::nonAsciiOnLine(text, where.line) &&
+         e.description().find(common::kNonAscii) != std::string_view::npos))
+      throw InvalidArgument(file, at + ": a character outside ASCII (only comments may hold one)");
+    throw InvalidArgument(file, at + ": not valid TOML (" + std::string(e.description()) + ")");
   }
   Scene scene;
   const char* tables[] = {"emitter", "force", "collider"};
