@@ -286,6 +286,84 @@ uint32_t hostMemoryType(VkPhysicalDevice physical, uint32_t bits, VkMemoryProper
   return 0;
 }
 
+// A host's 2D image, device memory and view, made without Lava and destroyed with it.
+struct HostImage {
+  VkDevice device;
+  VkImage image = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  HostImage(const DeviceHandles& host, VkExtent2D extent, VkFormat format,
+            VkImageUsageFlags usage, VkImageAspectFlags aspect)
+      : device(host.device) {
+    VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    info.imageType = VK_IMAGE_TYPE_2D;
+    info.format = format;
+    info.extent = {extent.width, extent.height, 1};
+    info.mipLevels = info.arrayLayers = 1;
+    info.samples = VK_SAMPLE_COUNT_1_BIT;
+    info.usage = usage;
+    EXPECT_EQ(vkCreateImage(device, &info, nullptr, &image), VK_SUCCESS);
+    VkMemoryRequirements needs;
+    vkGetImageMemoryRequirements(device, image, &needs);
+    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    alloc.allocationSize = needs.size;
+    alloc.memoryTypeIndex = hostMemoryType(host.physicalDevice, needs.memoryTypeBits, 0);
+    EXPECT_EQ(vkAllocateMemory(device, &alloc, nullptr, &memory), VK_SUCCESS);
+    vkBindImageMemory(device, image, memory, 0);
+    VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    viewInfo.image = image;
+    viewInfo.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    viewInfo.format = format;
+    viewInfo.subresourceRange = {aspect, 0, 1, 0, 1};
+    EXPECT_EQ(vkCreateImageView(device, &viewInfo, nullptr, &view), VK_SUCCESS);
+  }
+  ~HostImage() {
+    vkDestroyImageView(device, view, nullptr);
+    vkDestroyImage(device, image, nullptr);
+    vkFreeMemory(device, memory, nullptr);
+  }
+  HostImage(const HostImage&) = delete;
+  HostImage& operator=(const HostImage&) = delete;
+};
+
+// A host-visible, coherent buffer the host copies into and reads.
+struct HostReadback {
+  VkDevice device;
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkDeviceSize bytes;
+  HostReadback(const DeviceHandles& host, VkDeviceSize size) : device(host.device), bytes(size) {
+    VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    info.size = bytes;
+    info.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    EXPECT_EQ(vkCreateBuffer(device, &info, nullptr, &buffer), VK_SUCCESS);
+    VkMemoryRequirements needs;
+    vkGetBufferMemoryRequirements(device, buffer, &needs);
+    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    alloc.allocationSize = needs.size;
+    alloc.memoryTypeIndex =
+        hostMemoryType(host.physicalDevice, needs.memoryTypeBits,
+                       VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+    EXPECT_EQ(vkAllocateMemory(device, &alloc, nullptr, &memory), VK_SUCCESS);
+    vkBindBufferMemory(device, buffer, memory, 0);
+  }
+  ~HostReadback() {
+    vkDestroyBuffer(device, buffer, nullptr);
+    vkFreeMemory(device, memory, nullptr);
+  }
+  HostReadback(const HostReadback&) = delete;
+  HostReadback& operator=(const HostReadback&) = delete;
+  // Once the copy into it has finished.
+  std::vector<uint8_t> read() const {
+    void* mapped = nullptr;
+    EXPECT_EQ(vkMapMemory(device, memory, 0, bytes, 0, &mapped), VK_SUCCESS);
+    std::vector<uint8_t> out(static_cast<const uint8_t*>(mapped),
+                             static_cast<const uint8_t*>(mapped) + bytes);
+    vkUnmapMemory(device, memory);
+    return out;
+  }
+};
+
 // A host that only records: from Lava's device to its destruction, frames of simulation and
 // drawing (both renderers, the lava look with its glow, a resize that also rebuilds the
 // host's frames with one more in flight) through the host's own command buffers, and Lava
@@ -321,50 +399,12 @@ TEST_P(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
     auto frames = std::make_unique<HostFrames>(vkDevice, device.framesInFlight());
 
     // The host's target (one per size) and a buffer it reads the particles back into.
-    struct Target {
-      VkImage image = VK_NULL_HANDLE;
-      VkDeviceMemory memory = VK_NULL_HANDLE;
-      VkImageView view = VK_NULL_HANDLE;
-    } targets[2];
-    for (int t = 0; t < 2; ++t) {
-      VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-      info.imageType = VK_IMAGE_TYPE_2D;
-      info.format = VK_FORMAT_R8G8B8A8_UNORM;
-      info.extent = {extents[t].width, extents[t].height, 1};
-      info.mipLevels = info.arrayLayers = 1;
-      info.samples = VK_SAMPLE_COUNT_1_BIT;
-      info.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
-      ASSERT_EQ(vkCreateImage(vkDevice, &info, nullptr, &targets[t].image), VK_SUCCESS);
-      VkMemoryRequirements needs;
-      vkGetImageMemoryRequirements(vkDevice, targets[t].image, &needs);
-      VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-      alloc.allocationSize = needs.size;
-      alloc.memoryTypeIndex = hostMemoryType(host.handles.physicalDevice, needs.memoryTypeBits, 0);
-      ASSERT_EQ(vkAllocateMemory(vkDevice, &alloc, nullptr, &targets[t].memory), VK_SUCCESS);
-      vkBindImageMemory(vkDevice, targets[t].image, targets[t].memory, 0);
-      VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-      view.image = targets[t].image;
-      view.viewType = VK_IMAGE_VIEW_TYPE_2D;
-      view.format = info.format;
-      view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-      ASSERT_EQ(vkCreateImageView(vkDevice, &view, nullptr, &targets[t].view), VK_SUCCESS);
-    }
-    const VkDeviceSize bytes = scene.particles() * sizeof(Particle);
-    VkBufferCreateInfo bufferInfo{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
-    bufferInfo.size = bytes;
-    bufferInfo.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    VkBuffer readback = VK_NULL_HANDLE;
-    ASSERT_EQ(vkCreateBuffer(vkDevice, &bufferInfo, nullptr, &readback), VK_SUCCESS);
-    VkMemoryRequirements needs;
-    vkGetBufferMemoryRequirements(vkDevice, readback, &needs);
-    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    alloc.allocationSize = needs.size;
-    alloc.memoryTypeIndex = hostMemoryType(
-        host.handles.physicalDevice, needs.memoryTypeBits,
-        VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-    VkDeviceMemory readbackMemory = VK_NULL_HANDLE;
-    ASSERT_EQ(vkAllocateMemory(vkDevice, &alloc, nullptr, &readbackMemory), VK_SUCCESS);
-    vkBindBufferMemory(vkDevice, readback, readbackMemory, 0);
+    const HostImage targets[2] = {
+        {host.handles, extents[0], VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT,
+         VK_IMAGE_ASPECT_COLOR_BIT},
+        {host.handles, extents[1], VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT,
+         VK_IMAGE_ASPECT_COLOR_BIT}};
+    const HostReadback readback(host.handles, scene.particles() * sizeof(Particle));
 
     OrbitCamera camera;
     for (uint32_t frame = 0; frame <= kFrames; ++frame) {
@@ -390,7 +430,7 @@ TEST_P(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
         for (const ParticleChunk& chunk : gpu.chunks()) {
           const VkBufferCopy region{0, chunk.first * sizeof(Particle),
                                     chunk.count * sizeof(Particle)};
-          vkCmdCopyBuffer(commands, chunk.buffer, readback, 1, &region);
+          vkCmdCopyBuffer(commands, chunk.buffer, readback.buffer, 1, &region);
         }
         frames->submit(host.handles.queue, slot);
         break;
@@ -427,18 +467,9 @@ TEST_P(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
       frames->submit(host.handles.queue, slot);
     }
     vkDeviceWaitIdle(vkDevice);
-    void* mapped = nullptr;
-    ASSERT_EQ(vkMapMemory(vkDevice, readbackMemory, 0, bytes, 0, &mapped), VK_SUCCESS);
-    readBack.assign(static_cast<const Particle*>(mapped),
-                    static_cast<const Particle*>(mapped) + scene.particles());
-    vkUnmapMemory(vkDevice, readbackMemory);
-    vkDestroyBuffer(vkDevice, readback, nullptr);
-    vkFreeMemory(vkDevice, readbackMemory, nullptr);
-    for (Target& target : targets) {
-      vkDestroyImageView(vkDevice, target.view, nullptr);
-      vkDestroyImage(vkDevice, target.image, nullptr);
-      vkFreeMemory(vkDevice, target.memory, nullptr);
-    }
+    const std::vector<uint8_t> bytes = readback.read();
+    readBack.resize(scene.particles());
+    std::memcpy(readBack.data(), bytes.data(), bytes.size());
   }  // Lava's objects and device destroyed
   EXPECT_EQ(lavaCalls.submits, 0);
   EXPECT_EQ(lavaCalls.queueWaits, 0);
@@ -550,55 +581,15 @@ TEST(EmbeddingRenderPass, DrawsWhatDynamicRenderingDraws) {
   sphere.position = {1.6f, 1.6f, 2.3f};
   sphere.radius = 0.8f;
   scene.colliders.push_back(sphere);
-  // The host's attachments and read-back buffer.
-  struct Image {
-    VkImage image = VK_NULL_HANDLE;
-    VkDeviceMemory memory = VK_NULL_HANDLE;
-    VkImageView view = VK_NULL_HANDLE;
-  } images[2];
-  for (int i = 0; i < 2; ++i) {
-    VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-    info.imageType = VK_IMAGE_TYPE_2D;
-    info.format = i ? kDepth : kColor;
-    info.extent = {extent.width, extent.height, 1};
-    info.mipLevels = info.arrayLayers = 1;
-    info.samples = VK_SAMPLE_COUNT_1_BIT;
-    // The depth is sampled by the splat.
-    info.usage = i ? VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT
-                   : VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    ASSERT_EQ(vkCreateImage(vk, &info, nullptr, &images[i].image), VK_SUCCESS);
-    VkMemoryRequirements needs;
-    vkGetImageMemoryRequirements(vk, images[i].image, &needs);
-    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    alloc.allocationSize = needs.size;
-    alloc.memoryTypeIndex = hostMemoryType(host.handles.physicalDevice, needs.memoryTypeBits, 0);
-    ASSERT_EQ(vkAllocateMemory(vk, &alloc, nullptr, &images[i].memory), VK_SUCCESS);
-    vkBindImageMemory(vk, images[i].image, images[i].memory, 0);
-    VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    view.image = images[i].image;
-    view.viewType = VK_IMAGE_VIEW_TYPE_2D;
-    view.format = info.format;
-    view.subresourceRange = {i ? VkImageAspectFlags(VK_IMAGE_ASPECT_DEPTH_BIT)
-                               : VkImageAspectFlags(VK_IMAGE_ASPECT_COLOR_BIT),
-                             0, 1, 0, 1};
-    ASSERT_EQ(vkCreateImageView(vk, &view, nullptr, &images[i].view), VK_SUCCESS);
-  }
-  const VkDeviceSize bytes = VkDeviceSize{extent.width} * extent.height * 4;
-  VkBufferCreateInfo bufferInfo{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
-  bufferInfo.size = bytes;
-  bufferInfo.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-  VkBuffer readback = VK_NULL_HANDLE;
-  ASSERT_EQ(vkCreateBuffer(vk, &bufferInfo, nullptr, &readback), VK_SUCCESS);
-  VkMemoryRequirements needs;
-  vkGetBufferMemoryRequirements(vk, readback, &needs);
-  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-  alloc.allocationSize = needs.size;
-  alloc.memoryTypeIndex =
-      hostMemoryType(host.handles.physicalDevice, needs.memoryTypeBits,
-                     VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-  VkDeviceMemory readbackMemory = VK_NULL_HANDLE;
-  ASSERT_EQ(vkAllocateMemory(vk, &alloc, nullptr, &readbackMemory), VK_SUCCESS);
-  vkBindBufferMemory(vk, readback, readbackMemory, 0);
+  // The host's attachments (the depth sampled by the splat) and read-back buffer.
+  const HostImage images[2] = {
+      {host.handles, extent, kColor,
+       VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+       VK_IMAGE_ASPECT_COLOR_BIT},
+      {host.handles, extent, kDepth,
+       VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+       VK_IMAGE_ASPECT_DEPTH_BIT}};
+  const HostReadback readback(host.handles, VkDeviceSize{extent.width} * extent.height * 4);
 
   // Pass 0 clears and writes depth (the backdrop's); pass 1 loads both, depth read-only
   // (Lava's lines and glow). Their layouts stay as the subpass uses them: the host's
@@ -755,7 +746,7 @@ TEST(EmbeddingRenderPass, DrawsWhatDynamicRenderingDraws) {
         region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
         region.imageExtent = {extent.width, extent.height, 1};
         vkCmdCopyImageToBuffer(cmd, images[0].image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                               readback, 1, &region);
+                               readback.buffer, 1, &region);
         VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr,
                                VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT};
         vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0,
@@ -764,12 +755,7 @@ TEST(EmbeddingRenderPass, DrawsWhatDynamicRenderingDraws) {
       frames.submit(host.handles.queue, slot);
     }
     vkDeviceWaitIdle(vk);
-    void* mapped = nullptr;
-    EXPECT_EQ(vkMapMemory(vk, readbackMemory, 0, bytes, 0, &mapped), VK_SUCCESS);
-    std::vector<uint8_t> pixels(static_cast<const uint8_t*>(mapped),
-                                static_cast<const uint8_t*>(mapped) + bytes);
-    vkUnmapMemory(vk, readbackMemory);
-    return pixels;
+    return readback.read();
   };
   const std::vector<uint8_t> dynamic = run(false), passed = run(true);
   size_t lit = 0, differ = 0;
@@ -794,12 +780,7 @@ TEST(EmbeddingRenderPass, DrawsWhatDynamicRenderingDraws) {
   for (int i = 0; i < 2; ++i) {
     vkDestroyFramebuffer(vk, framebuffers[i], nullptr);
     vkDestroyRenderPass(vk, passes[i], nullptr);
-    vkDestroyImageView(vk, images[i].view, nullptr);
-    vkDestroyImage(vk, images[i].image, nullptr);
-    vkFreeMemory(vk, images[i].memory, nullptr);
   }
-  vkDestroyBuffer(vk, readback, nullptr);
-  vkFreeMemory(vk, readbackMemory, nullptr);
   for (const std::string& m : host.messages) ADD_FAILURE() << "validation: " << m;
 }
 
