@@ -261,13 +261,27 @@ py::dict checkpointDict(const lava::Checkpoint& point) {
 double numberIn(const py::kwargs& params, const char* name, double fallback, double low,
                 double high, bool openLow = false) {
   if (!params.contains(name)) return fallback;
-  const double value = py::float_(params[name]).cast<double>();
+  const py::object given = params[name];
+  if (py::isinstance<py::bool_>(given) ||
+      !(py::isinstance<py::int_>(given) || py::isinstance<py::float_>(given)))
+    throw py::value_error(std::string(name) + ": expected a number, got " +
+                          py::repr(given).cast<std::string>());
+  const double value = given.cast<double>();
   if (!(value >= low && value <= high) || (openLow && value == low))
     throw py::value_error(std::string(name) + ": expected " + (openLow ? "(" : "[") +
                           py::repr(py::float_(low)).cast<std::string>() + ", " +
                           py::repr(py::float_(high)).cast<std::string>() + "], got " +
                           py::repr(params[name]).cast<std::string>());
   return value;
+}
+
+// A keyword of render() that names a choice; ValueError naming it unless it is a str.
+std::string textIn(const py::kwargs& params, const char* name, const std::string& fallback) {
+  if (!params.contains(name)) return fallback;
+  if (!py::isinstance<py::str>(params[name]))
+    throw py::value_error(std::string(name) + ": expected a str, got " +
+                          py::repr(params[name]).cast<std::string>());
+  return params[name].cast<std::string>();
 }
 
 // The scene's keys, set from keywords; ValueError naming a bad one.
@@ -513,13 +527,12 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
         run.look.exposure = float(numberIn(all, "exposure", 1.0, 0.0, 16.0, true));
         run.look.bloom = float(numberIn(all, "bloom", 1.0, 0.0, 4.0));
         run.look.threshold = float(numberIn(all, "bloom_threshold", 0.1, 0.0, 16.0));
-        const std::string look = all.contains("look") ? all["look"].cast<std::string>() : "lava";
+        const std::string look = textIn(all, "look", "lava");
         if (look != "lava" && look != "plain")
           throw py::value_error("look: expected 'lava' or 'plain', got '" + look + "'");
         run.style = look == "lava" ? lava::LookStyle::Lava : lava::LookStyle::Plain;
-        const std::string lines = all.contains("renderer") ? all["renderer"].cast<std::string>()
-                                  : o.scene.particles() >= lava::kSplatFrom ? "splat"
-                                                                            : "lines";
+        const std::string lines =
+            textIn(all, "renderer", o.scene.particles() >= lava::kSplatFrom ? "splat" : "lines");
         if (lines != "lines" && lines != "splat")
           throw py::value_error("renderer: expected 'lines' or 'splat', got '" + lines + "'");
         run.lines = lines == "splat" ? lava::LineMode::Splat : lava::LineMode::Lines;
@@ -561,6 +574,12 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
       .def_static(
           "resume",
           [](const std::string& path, const std::string& backend, const py::kwargs& params) {
+            for (const auto& [key, value] : params) {
+              const std::string name = key.cast<std::string>();
+              if (name != "device" && name != "threads")
+                throw py::value_error(name + ": resume() takes device and threads; the scene "
+                                             "is the checkpoint's");
+            }
             Options o = options(py::none(), params, {}, {});
             const lava::Snapshot snapshot = lava::readCheckpoint(path);
             o.scene = snapshot.scene;

@@ -83,6 +83,10 @@ def test_render_checks_its_keywords():
         lava.render(fps=0)
     with pytest.raises(ValueError, match="emitter_radius"):
         lava.render(emitter_radius=-1)
+    with pytest.raises(ValueError, match="fps"):
+        lava.render(fps="fast")
+    with pytest.raises(ValueError, match="renderer"):
+        lava.render(renderer=3)
 
 
 def test_a_scene_loads_edits_prints_and_saves(tmp_path):
@@ -121,6 +125,8 @@ def test_a_checkpoint_resumes_bit_for_bit_on_another_backend(tmp_path):
     run.advance(700)
     run.checkpoint(str(tmp_path / "run.npz"))
     run.advance(500)
+    with pytest.raises(ValueError, match="rate"):
+        lava.Simulation.resume(str(tmp_path / "run.npz"), rate=5)
     resumed = lava.Simulation.resume(str(tmp_path / "run.npz"), backend="cpu")
     assert resumed.step == 700 and resumed.scene == scene
     resumed.advance(500)
