@@ -198,9 +198,7 @@ std::vector<Case> parseSuite(const std::string& text, const std::string& path) {
     root = toml::parse(common::asciiForToml(text), path);
   } catch (const toml::parse_error& e) {
     const auto& where = e.source().begin;
-    if (common::nonAsciiOnLine(text, where.line) &&
-        (static_cast<unsigned char>(common::byteAt(text, where.line, where.column)) >= 0x80 ||
-         e.description().find(common::kNonAscii) != std::string_view::npos))
+    if (common::errorIsNonAscii(text, where.line, where.column, e.description()))
       throw UsageError("--suite: " + path + ":" + std::to_string(where.line) +
                        ": a character outside ASCII (only comments may hold one)");
     throw UsageError("--suite: " + path + ":" + std::to_string(e.source().begin.line) +

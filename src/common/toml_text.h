@@ -5,8 +5,9 @@
 // So toml++ only ever sees ASCII: each byte outside it becomes '~', which is valid in
 // comments and strings and nowhere else, at the same byte offset (lines and columns stay).
 // Such characters mean nothing in these files but in comments; a string that had one is
-// refused by its reader (see byteAt).
+// refused by its reader (nonAsciiBetween).
 #pragma once
+#include <algorithm>
 #include <cstddef>
 #include <string>
 #include <string_view>
@@ -22,41 +23,37 @@ inline std::string asciiForToml(std::string_view text) {
   return out;
 }
 
-// The byte at 1-based `line` and `column` (as toml++ counts them in asciiForToml's text), or
-// '\0' past the end.
-inline char byteAt(std::string_view text, size_t line, size_t column) {
+// The byte offset of 1-based `line` and `column` as toml++ counts them in asciiForToml's
+// text (one column a byte), capped at the end.
+inline size_t offsetOf(std::string_view text, size_t line, size_t column) {
   size_t at = 0;
   for (size_t l = 1; l < line && at < text.size(); ++at)
     if (text[at] == '\n') ++l;
-  at += column - 1;
-  return at < text.size() ? text[at] : '\0';
+  return std::min(at + column - 1, text.size());
 }
 
-// Whether line `line` of the original text has a byte outside ASCII.
-inline bool nonAsciiOnLine(std::string_view text, size_t line) {
-  for (size_t at = 0, l = 1; at < text.size() && l <= line; ++at) {
-    if (text[at] == '\n') ++l;
-    else if (l == line && static_cast<unsigned char>(text[at]) >= 0x80) return true;
-  }
+inline bool nonAscii(char c) { return static_cast<unsigned char>(c) >= 0x80; }
+
+// Whether toml++'s error at `line`:`column`, described by `description`, is about a byte
+// of the original text outside ASCII: at that place, or named there as the '~' it became.
+inline bool errorIsNonAscii(std::string_view text, size_t line, size_t column,
+                            std::string_view description) {
+  const size_t at = offsetOf(text, line, column);
+  if (at < text.size() && nonAscii(text[at])) return true;
+  if (description.find(kNonAscii) == std::string_view::npos) return false;
+  const size_t start = offsetOf(text, line, 1);
+  const size_t end = std::min(text.find('\n', start), text.size());
+  for (size_t k = start; k < end; ++k)
+    if (nonAscii(text[k])) return true;
   return false;
 }
 
 // Whether the original text has a byte outside ASCII between two such positions.
 inline bool nonAsciiBetween(std::string_view text, size_t line, size_t column, size_t endLine,
                             size_t endColumn) {
-  size_t at = 0;
-  for (size_t l = 1; l < line && at < text.size(); ++at)
-    if (text[at] == '\n') ++l;
-  at += column - 1;
-  for (size_t l = line, c = column; at < text.size() && (l < endLine || c < endColumn); ++at) {
-    if (static_cast<unsigned char>(text[at]) >= 0x80) return true;
-    if (text[at] == '\n') {
-      ++l;
-      c = 1;
-    } else {
-      ++c;
-    }
-  }
+  const size_t end = offsetOf(text, endLine, endColumn);
+  for (size_t k = offsetOf(text, line, column); k < end; ++k)
+    if (nonAscii(text[k])) return true;
   return false;
 }
 

@@ -5,15 +5,16 @@
 
 namespace lava::window {
 
-void DemoPanel::build(const char* device, const DemoFigures& figures, DemoControls& controls,
-                      host::FrameRenderer& renderer, GpuSimulation& simulation, Scene& running) {
+void DemoPanel::build(const char* device, const std::function<DemoFigures()>& figures,
+                      DemoControls& controls, host::FrameRenderer& renderer,
+                      GpuSimulation& simulation, Scene& running) {
   if (!controls.showPanel) return;
   // The figures are refreshed four times a second: readable, and a panel that did not
   // change is not drawn again (Ui::record copies the one it drew).
   const double now = glfwGetTime();
   if (now - shownAt_ >= 0.25 || now < shownAt_) {
     shownAt_ = now;
-    shown_ = figures;
+    shown_ = figures();
   }
   ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
   ImGui::Begin("Lava", nullptr, ImGuiWindowFlags_AlwaysAutoResize);

@@ -2,6 +2,7 @@
 // look, and the scene editor with live changes and restarts.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 
@@ -28,8 +29,10 @@ class DemoPanel {
   // Builds this frame's panel (between ImGui::NewFrame and ImGui::Render), unless
   // controls.showPanel is off. The buttons set `controls`; the look goes to `renderer`; a
   // live scene edit goes to `simulation` and, when it takes it, to `running`.
-  void build(const char* device, const DemoFigures& figures, DemoControls& controls,
-             host::FrameRenderer& renderer, GpuSimulation& simulation, Scene& running);
+  // `figures` is asked only when the shown figures are refreshed (four times a second).
+  void build(const char* device, const std::function<DemoFigures()>& figures,
+             DemoControls& controls, host::FrameRenderer& renderer, GpuSimulation& simulation,
+             Scene& running);
 
   // The scene a restart would run.
   const Scene& edited() const { return scene_.edited(); }

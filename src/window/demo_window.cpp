@@ -276,7 +276,7 @@ class Demo {
     return n;
   }
 
-  // The panel's figures, for this frame.
+  // The panel's figures, now.
   DemoFigures figures() const {
     return {fps_, simulateMs_, drawMs_, simulatedSeconds_, alive()};
   }
@@ -368,8 +368,8 @@ class Demo {
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
     input_.apply(controls_, camera_);
-    panel_.build(device_.properties().deviceName, figures(), controls_, renderer_, *simulation_,
-                 scene_);
+    panel_.build(device_.properties().deviceName, [this] { return figures(); }, controls_,
+                 renderer_, *simulation_, scene_);
     ImGui::Render();
     applyRequests();
     const uint32_t steps = stepsFor(frameSeconds);

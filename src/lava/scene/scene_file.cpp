@@ -84,9 +84,7 @@ Scene parseScene(const std::string& text, const std::string& file, const OtherKe
   } catch (const toml::parse_error& e) {
     const auto& where = e.source().begin;
     const std::string at = std::to_string(where.line) + ":" + std::to_string(where.column);
-    if (static_cast<unsigned char>(common::byteAt(text, where.line, where.column)) >= 0x80 ||
-        (common::nonAsciiOnLine(text, where.line) &&
-         e.description().find(common::kNonAscii) != std::string_view::npos))
+    if (common::errorIsNonAscii(text, where.line, where.column, e.description()))
       throw InvalidArgument(file, at + ": a character outside ASCII (only comments may hold one)");
     throw InvalidArgument(file, at + ": not valid TOML (" + std::string(e.description()) + ")");
   }
