@@ -16,6 +16,7 @@
 #include <string>
 #include <thread>
 
+#include "common/npy.h"
 #include "host/frame_renderer.h"
 #include "lava/checkpoint.h"
 #include "lava/lava.h"
@@ -151,14 +152,16 @@ Options options(const py::object& scenePath, const py::kwargs& params,
   return o;
 }
 
-// Particles as the .npy columns: px py pz vx vy vz age (-1: not alive).
-py::array_t<float> columns(const std::vector<lava::Particle>& particles) {
-  py::array_t<float> out({py::ssize_t(particles.size()), py::ssize_t(7)});
+// The state as the .npy columns: px py pz vx vy vz age (-1: not alive), and temperature (K)
+// for a scene with a flow.
+py::array_t<float> columns(const lava::State& state) {
+  const size_t n = lava::common::stateColumns(state);
+  py::array_t<float> out({py::ssize_t(state.particles.size()), py::ssize_t(n)});
   auto rows = out.mutable_unchecked<2>();
-  for (size_t i = 0; i < particles.size(); ++i) {
-    const lava::Particle& p = particles[i];
-    const float row[7] = {p.px, p.py, p.pz, p.vx, p.vy, p.vz, p.age < 0.0f ? -1.0f : p.age};
-    for (int c = 0; c < 7; ++c) rows(py::ssize_t(i), c) = row[c];
+  for (size_t i = 0; i < state.particles.size(); ++i) {
+    float row[8];
+    lava::common::stateRow(state, i, row);
+    for (size_t c = 0; c < n; ++c) rows(py::ssize_t(i), py::ssize_t(c)) = row[c];
   }
   return out;
 }
@@ -211,7 +214,7 @@ class Simulation {
   py::array_t<float> state() {
     const lava::State state = sim_->state();
     validated();
-    return columns(state.particles);
+    return columns(state);
   }
   // Raw slots (particles, 8), as `particles` gives them; step and clocks stay.
   void setState(const py::array_t<float, py::array::c_style | py::array::forcecast>& raw) {
@@ -356,11 +359,13 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
                 {"top", lava::KeyTable::Top},
                 {"emitter", lava::KeyTable::Emitter},
                 {"force", lava::KeyTable::Force},
-                {"collider", lava::KeyTable::Collider}};
+                {"collider", lava::KeyTable::Collider},
+                {"flow", lava::KeyTable::Flow}};
             const auto found = tables.find(table);
             if (found == tables.end())
-              throw py::value_error("table: expected 'top', 'emitter', 'force' or 'collider', got '" +
-                                    table + "'");
+              throw py::value_error(
+                  "table: expected 'top', 'emitter', 'force', 'collider' or 'flow', got '" + table +
+                  "'");
             std::string flag = key;
             std::replace(flag.begin(), flag.end(), '_', '-');
             lava::Scene edited = scene;
@@ -373,8 +378,8 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
             scene = edited;
           },
           py::arg("key"), py::arg("value"), py::arg("table") = "top", py::arg("index") = 0,
-          "Sets one key: of the top level (emitter 0's keys included), or of table\n"
-          "'emitter', 'force' or 'collider' number `index`. ValueError names a bad key or\n"
+          "Sets one key: of the top level (emitter 0's keys included), of table 'emitter',\n"
+          "'force' or 'collider' number `index`, or of 'flow'. ValueError names a bad key or\n"
           "value, and the scene stays as it was.")
       .def_property_readonly("particles", &lava::Scene::particles,
                              "Slots of all emitters together.")
@@ -389,8 +394,9 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
           [](const lava::Scene& scene) {
             return py::module_::import("tomllib").attr("loads")(lava::toToml(scene));
           },
-          "The scene as a dict of its TOML: top-level keys, and lists of tables under\n"
-          "'emitter', 'force' and 'collider' (a copy: edit with set()).")
+          "The scene as a dict of its TOML: top-level keys, lists of tables under\n"
+          "'emitter', 'force' and 'collider', and 'flow' when it has one (a copy: edit\n"
+          "with set()).")
       .def(
           "__getattr__",
           [](const lava::Scene& scene, const std::string& name) -> py::object {
@@ -442,18 +448,19 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
         const Options o = options(scene, params);
         std::unique_ptr<lava::Simulation> sim = make(backend, o);
         advanceInterruptibly(*sim, steps);
-        std::vector<lava::Particle> particles;
+        lava::State state;
         {
           py::gil_scoped_release release;
-          particles = sim->state().particles;
+          state = sim->state();
         }
         if (backend == "gpu") raiseOnValidation(device(o.device));
-        return columns(particles);
+        return columns(state);
       },
       py::arg("steps"), py::arg("backend") = "gpu", py::arg("scene") = py::none(),
       "Runs the scene for `steps` steps on the GPU (backend='gpu'), the CPU reference\n"
       "('cpu') or its SIMD twin ('cpu-simd', the same bytes) and returns the final state:\n"
-      "float32, shape (particles, 7), columns px py pz vx vy vz age (age -1: not alive).\n"
+      "float32, shape (particles, 7), columns px py pz vx vy vz age (age -1: not alive),\n"
+      "and an 8th, temperature (K), for a scene with a [flow] table.\n"
       "`scene`: a lava.Scene or a TOML scene file; keywords are the command line's flags\n"
       "with '-' written '_' (emitter_radius=0.2), plus device=N and threads=N (CPU). Bad\n"
       "values raise ValueError naming the parameter; Ctrl-C interrupts between batches.");

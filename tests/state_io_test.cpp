@@ -32,13 +32,19 @@ std::vector<Particle> sample() {
           Particle{0.0f, 0.0f, 0.0f, -1.0f, 0.0f, 0.0f, 0.0f, 0.0f}};
 }
 
+State sampleState() {
+  State state;
+  state.particles = sample();
+  return state;
+}
+
 std::string tempPath(const std::string& name) {
   return ::testing::TempDir() + "lava_" + std::to_string(getpid()) + "_" + name;
 }
 
 TEST(StateIo, NpyHasVersion1HeaderShapeAndRows) {
   const std::string path = tempPath("state.npy");
-  writeState(path, sample());
+  writeState(path, sampleState());
   const std::string data = readFile(path);
   ASSERT_GT(data.size(), 10u);
   EXPECT_EQ(data.substr(0, 8), std::string("\x93NUMPY\x01\x00", 8));
@@ -59,9 +65,28 @@ TEST(StateIo, NpyHasVersion1HeaderShapeAndRows) {
 
 TEST(StateIo, CsvHasHeaderAndOneLinePerSlot) {
   const std::string path = tempPath("state.csv");
-  writeState(path, sample());
+  writeState(path, sampleState());
   EXPECT_EQ(readFile(path), "px,py,pz,vx,vy,vz,age\n1,2,3,4,5,6,0.5\n0,0,0,0,0,0,-1\n");
   std::remove(path.c_str());
+}
+
+TEST(StateIo, AFlowAddsTheTemperatureColumn) {
+  State state = sampleState();
+  state.temperature = {1234.5f, 999.0f};  // the unborn slot's reads 0 whatever it holds
+  state.crust = {0, 0};
+  const std::string path = tempPath("flow.csv");
+  writeState(path, state);
+  EXPECT_EQ(readFile(path),
+            "px,py,pz,vx,vy,vz,age,temperature\n1,2,3,4,5,6,0.5,1234.5\n0,0,0,0,0,0,-1,0\n");
+  const std::string npy = tempPath("flow.npy");
+  writeState(npy, state);
+  const std::string data = readFile(npy);
+  EXPECT_NE(data.find("'shape': (2, 8)"), std::string::npos);
+  float last;
+  std::memcpy(&last, data.data() + data.size() - 9 * sizeof(float), sizeof(float));
+  EXPECT_EQ(last, 1234.5f) << "row 0's 8th column";
+  std::remove(path.c_str());
+  std::remove(npy.c_str());
 }
 
 std::vector<std::string> temporaries;  // what writeFileAtomically announced, in order

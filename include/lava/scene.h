@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,8 @@ struct Emitter {
   Vec3 spread{1.6f, 1.5f, 1.6f};    // launch velocity spread per component (m/s)
   float mass = 1.0f;                // kg
   float lifetime = 0.0f;            // s; 0: lives until its slot is reborn
+  bool flow = false;                // its particles are the flow's (Scene::flow)
+  float temperature = 0.0f;         // K at birth, flow emitters; 0: the flow's temperature
 };
 
 // A force added to gravity, wind and drag, in order.
@@ -62,6 +65,22 @@ struct Collider {
   float friction = 0.7f;          // tangential velocity kept by a bounce
 };
 
+// The molten rock of the flow emitters: one material a scene (docs/model.md, "The flow").
+struct Flow {
+  float radius = 0.06f;           // m: flow particles closer than this interact
+  float density = 2600.0f;        // kg/m^3 at rest: a particle's volume is mass / density
+  float temperature = 1400.0f;    // K: the eruption's, each flow emitter's default
+  float viscosity = 0.05f;        // kinematic viscosity (m^2/s) at and above `temperature`
+  float viscositySolidus = 5.0f;  // m^2/s just above `solidus`
+  float solidus = 1000.0f;        // K: at or below it a flow particle is solid
+  float ambient = 300.0f;         // K: the air and the ground far away
+  float coolingAir = 0.02f;       // 1/s: dT/dt = -coolingAir (T - ambient), always
+  float coolingGround = 0.2f;     // 1/s: added while touching the ground or a collider
+  float conduction = 0.0f;        // m^2/s: heat diffusivity between neighbours (0: none)
+  float soundSpeed = 10.0f;       // m/s: the pressure's wave speed (at most 0.4 radius / h)
+  float restitution = 0.0f;       // normal speed a flow particle keeps off the ground, colliders
+};
+
 struct Scene {
   double dt = 0.001;          // step (s); the simulation steps by h = float(dt)
   float gravity = 9.81f;      // g (m/s^2), along -y
@@ -75,6 +94,7 @@ struct Scene {
   std::vector<Emitter> emitters = std::vector<Emitter>(1);  // the crater
   std::vector<Force> forces;
   std::vector<Collider> colliders;
+  std::optional<Flow> flow;  // the [flow] table: set when any emitter is a flow emitter
 
   float h() const { return static_cast<float>(dt); }
   // Slots of all emitters together: the length of a state's particle array.
@@ -83,6 +103,8 @@ struct Scene {
   LAVA_API uint64_t firstSlot(size_t emitter) const;
   // Steps of size h in `seconds` of simulated time (rounded to nearest).
   LAVA_API uint64_t stepsIn(double seconds) const;
+  // Whether any emitter's particles are flow particles.
+  LAVA_API bool flows() const;
 };
 
 // Throws InvalidArgument naming the first offending parameter ("emitter[1].radius").
@@ -92,8 +114,10 @@ LAVA_API void checkScene(const Scene& scene);
 
 // -- Scene files (TOML) -----------------------------------------------------------------
 //
-// Format 2: top-level keys, then [[emitter]], [[force]] and [[collider]] tables
-// (docs/cli.md, "Scenes").
+// Format 2: top-level keys, then [[emitter]], [[force]] and [[collider]] tables and the
+// [flow] table (docs/cli.md, "Scenes"). An emitter with `flow = true` in a file without
+// [flow] gets the flow's defaults, and its `mass`, when the file does not give one,
+// defaults to density * (radius / 2)^3: particles spaced half the radius apart.
 // A file without [[emitter]] tables describes emitter 0 with the top-level emitter keys.
 
 // For a top-level key Lava does not know: return true to accept it (a program's own

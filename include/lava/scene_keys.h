@@ -10,12 +10,13 @@
 
 namespace lava {
 
-// A value is text: a number ("0.45"), a vector ("0,1.5,0"), or a name ("velocity-verlet").
+// A value is text: a number ("0.45"), a vector ("0,1.5,0"), a name ("velocity-verlet"), or
+// a flag ("true", "false").
 // Top-level keys: dt gravity restitution friction wind drag seed line-scale integrator,
 // and the emitter-0 keys particles rate emitter emitter-radius velocity spread mass burst
 // burst-interval shape lifetime. Table keys are listed by sceneKeys().
 
-enum class KeyKind { Integer, Number, Vector, Name };
+enum class KeyKind { Integer, Number, Vector, Name, Flag };  // Flag: true or false
 
 struct SceneKey {
   std::string name;  // "emitter-radius"
@@ -24,7 +25,7 @@ struct SceneKey {
   std::string fallback;  // the default, as text
 };
 
-enum class KeyTable { Top, Emitter, Force, Collider };
+enum class KeyTable { Top, Emitter, Force, Collider, Flow };
 
 // The keys of a table (Top: top-level keys, emitter-0 keys included), in order.
 LAVA_API const std::vector<SceneKey>& sceneKeys(KeyTable table);
@@ -35,7 +36,7 @@ LAVA_API std::string nearestName(const std::string& given, const std::vector<std
                                  size_t maxEdits);
 
 // Sets one key from text; `where` is the table index (emitter, force or collider;
-// ignored for Top). Throws InvalidArgument naming the key on a bad value or an unknown
+// ignored for Top and Flow; a Flow key gives a scene without one the flow's defaults first). Throws InvalidArgument naming the key on a bad value or an unknown
 // key. Top-level emitter keys set emitter 0.
 LAVA_API void setSceneKey(Scene& scene, KeyTable table, size_t where, const std::string& key,
                           const std::string& value);

@@ -30,13 +30,18 @@ struct State {
   uint64_t step = 0;                 // steps taken since the run began (bursts count from it)
   std::vector<EmitterClock> clocks;  // one per emitter
   std::vector<Particle> particles;   // Scene::particles() slots: emitter 0's, then 1's, ...
+  // Scenes with a flow (Scene::flow), one per slot; empty otherwise:
+  std::vector<float> temperature;  // K: flow particles'; 0 for other slots and unborn ones
+  std::vector<uint8_t> crust;      // 1: a crust particle (stopped for good until reborn)
 };
 
-// Before the first step: every slot unborn (zero position and velocity, age -1, mass 0).
+// Before the first step: every slot unborn (zero position and velocity, age -1, mass 0;
+// temperature 0, not crust).
 LAVA_API State initialState(const Scene& scene);
 
 // Throws InvalidArgument ("state: ...") unless `state` fits `scene`: as many particles as
-// its slots, one clock per emitter, each head inside its ring.
+// its slots, one clock per emitter, each head inside its ring, and temperatures and crust
+// flags for each slot exactly when the scene has a flow.
 LAVA_API void checkState(const Scene& scene, const State& state);
 
 // A 64-bit FNV-1a-style hash of the particles' bytes: equal states, equal hashes, on any

@@ -144,7 +144,7 @@ class SimulateCommand final : public Command {
       alive += p.age >= 0.0f;
       below += p.age >= 0.0f && p.py < 0.0f;
     }
-    if (!out_.empty()) host::writeState(out_, state.particles);
+    if (!out_.empty()) host::writeState(out_, state);
     std::printf(
         "simulate: %llu particles x %llu steps on %s in %s (and %s to set up): %llu alive, "
         "%llu below ground, "

@@ -21,14 +21,29 @@ inline std::string npyHeader(const std::string& descr, const std::string& shape)
   return out + header;
 }
 
-// The state table: float32 (slots, 7), columns px py pz vx vy vz age, -1 for a slot not
-// alive; little-endian, as x86 and Arm store floats.
-inline std::string stateTable(const std::vector<Particle>& particles) {
+// The state table's columns: px py pz vx vy vz age (-1 for a slot not alive), then, for a
+// state with a flow, temperature (K; 0 for the other emitters' slots and slots not alive).
+inline size_t stateColumns(const State& state) {
+  return state.temperature.empty() ? 7 : 8;
+}
+inline void stateRow(const State& state, size_t slot, float row[8]) {
+  const Particle& p = state.particles[slot];
+  const bool alive = !(p.age < 0.0f);
+  row[0] = p.px, row[1] = p.py, row[2] = p.pz, row[3] = p.vx, row[4] = p.vy, row[5] = p.vz;
+  row[6] = alive ? p.age : -1.0f;
+  row[7] = state.temperature.empty() || !alive ? 0.0f : state.temperature[slot];
+}
+
+// The state table as float32 (slots, stateColumns()), little-endian, as x86 and Arm store
+// floats.
+inline std::string stateTable(const State& state) {
+  const size_t columns = stateColumns(state);
   std::string out;
-  out.reserve(particles.size() * 7 * sizeof(float));
-  for (const Particle& p : particles) {
-    const float row[7] = {p.px, p.py, p.pz, p.vx, p.vy, p.vz, p.age < 0.0f ? -1.0f : p.age};
-    out.append(reinterpret_cast<const char*>(row), sizeof(row));
+  out.reserve(state.particles.size() * columns * sizeof(float));
+  for (size_t i = 0; i < state.particles.size(); ++i) {
+    float row[8];
+    stateRow(state, i, row);
+    out.append(reinterpret_cast<const char*>(row), columns * sizeof(float));
   }
   return out;
 }

@@ -25,22 +25,23 @@ bool endsWith(const std::string& text, const std::string& suffix) {
          text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-float ageColumn(const Particle& p) {
-  return p.age < 0.0f ? -1.0f : p.age;
+std::string npy(const State& state) {
+  return common::npyHeader("'<f4'", "(" + std::to_string(state.particles.size()) + ", " +
+                                        std::to_string(common::stateColumns(state)) + ")") +
+         common::stateTable(state);
 }
 
-std::string npy(const std::vector<Particle>& particles) {
-  return common::npyHeader("'<f4'", "(" + std::to_string(particles.size()) + ", 7)") +
-         common::stateTable(particles);
-}
-
-std::string csv(const std::vector<Particle>& particles) {
-  std::string out = "px,py,pz,vx,vy,vz,age\n";
-  char line[256];
-  for (const Particle& p : particles) {
-    std::snprintf(line, sizeof(line), "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", p.px, p.py, p.pz,
-                  p.vx, p.vy, p.vz, ageColumn(p));
-    out += line;
+std::string csv(const State& state) {
+  const size_t columns = common::stateColumns(state);
+  std::string out = columns == 8 ? "px,py,pz,vx,vy,vz,age,temperature\n" : "px,py,pz,vx,vy,vz,age\n";
+  char line[32];
+  for (size_t i = 0; i < state.particles.size(); ++i) {
+    float row[8];
+    common::stateRow(state, i, row);
+    for (size_t c = 0; c < columns; ++c) {
+      std::snprintf(line, sizeof(line), "%.9g%c", double(row[c]), c + 1 < columns ? ',' : '\n');
+      out += line;
+    }
   }
   return out;
 }
@@ -69,8 +70,8 @@ void writeFileAtomically(const std::string& path, const std::string& contents) {
   common::writeFileAtomically(path, contents, publishTemporary);
 }
 
-void writeState(const std::string& path, const std::vector<Particle>& particles) {
-  writeFileAtomically(path, endsWith(path, ".csv") ? csv(particles) : npy(particles));
+void writeState(const std::string& path, const State& state) {
+  writeFileAtomically(path, endsWith(path, ".csv") ? csv(state) : npy(state));
 }
 
 void writePng(const std::string& path, uint32_t width, uint32_t height,

@@ -9,8 +9,9 @@
 
 namespace lava::host {
 
-// .npy (float32, shape (slots, 7)) or .csv, columns px py pz vx vy vz age (-1: not alive).
-void writeState(const std::string& path, const std::vector<Particle>& particles);
+// .npy (float32, shape (slots, 7)) or .csv, columns px py pz vx vy vz age (-1: not alive),
+// and an 8th, temperature (K), for a state with a flow (common/npy.h).
+void writeState(const std::string& path, const State& state);
 void writePng(const std::string& path, uint32_t width, uint32_t height,
               const std::vector<uint8_t>& rgba);
 void writeFileAtomically(const std::string& path, const std::string& contents);

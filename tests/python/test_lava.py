@@ -130,3 +130,26 @@ def test_a_checkpoint_of_another_format_is_refused_by_name(tmp_path):
     r = subprocess.run([LAVA, "simulate", "--resume", other, "--steps", "1"],
                        capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
+
+
+def test_a_flow_adds_the_temperature_column_and_its_checkpoint_arrays(tmp_path):
+    # scenes/eruption.toml: sparks (emitter 0, 12000 slots), then the flow (16384).
+    scene = os.path.join(SCENES, "eruption.toml")
+    state = lava.simulate(300, backend="cpu", scene=scene)
+    assert state.shape == (28384, 8)
+    assert np.array_equal(state, program(tmp_path, "--backend", "cpu", "--scene", scene,
+                                         "--steps", "300"))
+    sparks, rock = state[:12000], state[12000:]
+    assert (sparks[:, 7] == 0).all()
+    born = rock[:, 6] >= 0
+    assert born.any() and ((rock[born, 7] > 1300) & (rock[born, 7] <= 1400)).all()
+    assert (rock[~born, 7] == 0).all()
+    ck = str(tmp_path / "flow.npz")
+    subprocess.run([LAVA, "simulate", "--backend", "cpu", "--scene", scene, "--steps", "300",
+                    "--checkpoint", ck], check=True, capture_output=True)
+    z = np.load(ck)
+    assert {"temperature", "crust"} <= set(z.files)
+    assert np.array_equal(z["temperature"][12000:][born], rock[born, 7])
+    assert z["crust"].dtype == np.uint8 and z["crust"].shape == (28384,)
+    with pytest.raises(ValueError, match=r"emitter\[1\]\.flow"):
+        lava.simulate(10, scene=scene)  # the GPU backend does not run the flow yet

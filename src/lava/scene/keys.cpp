@@ -193,10 +193,27 @@ KeyDef nameKey(const char* key, const char* help, uint32_t count, Get get) {
   return d;
 }
 
+template <typename Get>
+KeyDef flagKey(const char* key, const char* help, Get get) {
+  KeyDef d;
+  d.key = {key, KeyKind::Flag, std::string(help) + "; true or false", ""};
+  d.set = [get](Scene& s, size_t i, const std::string& p, const std::string& t) {
+    if (t != "true" && t != "false")
+      throw InvalidArgument(p, "expected true or false, got '" + t + "'");
+    get(s, i) = t == "true";
+  };
+  d.check = [](const Scene&, size_t, const std::string&) {};
+  d.text = [get](const Scene& s, size_t i) {
+    return std::string(get(const_cast<Scene&>(s), i) ? "true" : "false");
+  };
+  return d;
+}
+
 const Range kUnit{0.0, 1.0};
 const Range kPosition{-1e4, 1e4};
 const Range kLength{0.0, 1e4};
 const Range kPositiveLength{0.0, 1e4, true};
+const Range kTemperature{0.0, 1e5};
 
 std::vector<KeyDef> emitterKeys(bool flat) {
   // Flat (top-level) keys reach emitter 0 under the format 1 names.
@@ -225,9 +242,16 @@ std::vector<KeyDef> emitterKeys(bool flat) {
       floatKey("lifetime", "seconds a particle lives (0: until its slot is reborn)", {0.0, 1e6},
                [e](Scene& s, size_t i) -> float& { return e(s, i).lifetime; }),
   };
-  if (!flat)  // a box's half-extents have no top-level key (`size` is the image size there)
+  if (!flat) {  // a box's half-extents have no top-level key (`size` is the image size there)
     keys.push_back(vectorKey("size", "box half-extents (m)", kLength,
                              [e](Scene& s, size_t i) -> Vec3& { return e(s, i).size; }));
+    keys.push_back(flagKey("flow", "its particles are the flow's ([flow])",
+                           [e](Scene& s, size_t i) -> bool& { return e(s, i).flow; }));
+    keys.push_back(floatKey("temperature", "flow particles' temperature at birth (K; 0: [flow]'s)",
+                            kTemperature,
+                            [e](Scene& s, size_t i) -> float& { return e(s, i).temperature; }));
+    keys[keys.size() - 2].flowOnly = keys[keys.size() - 1].flowOnly = true;
+  }
   for (KeyDef& k : keys) k.emitterZero = flat;
   return keys;
 }
@@ -298,16 +322,60 @@ std::vector<KeyDef> colliderKeys() {
   };
 }
 
+std::vector<KeyDef> flowKeys() {
+  // A scene without a flow reads as the flow's defaults (the keys' defaults and help).
+  auto f = [](Scene& s, size_t) -> Flow& {
+    if (!s.flow) s.flow.emplace();
+    return *s.flow;
+  };
+  const Range rate{0.0, 1e3};
+  return {
+      floatKey("radius", "h (m): flow particles closer than this interact", {0.0, 100.0, true},
+               [f](Scene& s, size_t i) -> float& { return f(s, i).radius; }),
+      floatKey("density", "kg/m^3 at rest: a flow particle's volume is its mass / density",
+               {0.0, 1e6, true}, [f](Scene& s, size_t i) -> float& { return f(s, i).density; }),
+      floatKey("temperature", "eruption temperature (K), each flow emitter's default",
+               {0.0, 1e5, true},
+               [f](Scene& s, size_t i) -> float& { return f(s, i).temperature; }),
+      floatKey("viscosity", "kinematic viscosity (m^2/s) at and above temperature", {0.0, 1e4},
+               [f](Scene& s, size_t i) -> float& { return f(s, i).viscosity; }),
+      floatKey("viscosity-solidus", "kinematic viscosity (m^2/s) just above solidus, at least "
+               "viscosity", {0.0, 1e4},
+               [f](Scene& s, size_t i) -> float& { return f(s, i).viscositySolidus; }),
+      floatKey("solidus", "K: at or below it a flow particle is solid; below temperature",
+               {0.0, 1e5, true}, [f](Scene& s, size_t i) -> float& { return f(s, i).solidus; }),
+      floatKey("ambient", "K: the air and the ground far away", kTemperature,
+               [f](Scene& s, size_t i) -> float& { return f(s, i).ambient; }),
+      floatKey("cooling-air", "1/s: dT/dt = -cooling-air (T - ambient), always", rate,
+               [f](Scene& s, size_t i) -> float& { return f(s, i).coolingAir; }),
+      floatKey("cooling-ground", "1/s: added while touching the ground or a collider", rate,
+               [f](Scene& s, size_t i) -> float& { return f(s, i).coolingGround; }),
+      floatKey("conduction", "heat diffusivity between neighbours (m^2/s; 0: none)", {0.0, 1e3},
+               [f](Scene& s, size_t i) -> float& { return f(s, i).conduction; }),
+      floatKey("sound-speed", "the pressure's wave speed (m/s), at most 0.4 radius / dt",
+               {0.0, 1e4, true},
+               [f](Scene& s, size_t i) -> float& { return f(s, i).soundSpeed; }),
+      floatKey("restitution", "normal speed a flow particle keeps off the ground and colliders",
+               kUnit, [f](Scene& s, size_t i) -> float& { return f(s, i).restitution; }),
+  };
+}
+
 // Fills each key's default from a default-constructed entry of its table.
 std::vector<KeyDef> withDefaults(std::vector<KeyDef> keys) {
   Scene s;
   s.forces.resize(1);
   s.colliders.resize(1);
+  s.flow.emplace();
   for (KeyDef& k : keys) k.key.fallback = k.text(s, 0);
   return keys;
 }
 
 }  // namespace
+
+float defaultFlowMass(const Flow& flow) {
+  const double half = 0.5 * double(flow.radius);
+  return float(double(flow.density) * half * half * half);
+}
 
 std::string formatFloat(float value) {
   if (value == 0.0f && std::signbit(value)) return "-0.0";  // TOML's -0 is the integer 0
@@ -334,6 +402,7 @@ const std::vector<KeyDef>& keyDefs(KeyTable table) {
   static const std::vector<KeyDef> emitter = withDefaults(emitterKeys(false));
   static const std::vector<KeyDef> force = withDefaults(forceKeys());
   static const std::vector<KeyDef> collider = withDefaults(colliderKeys());
+  static const std::vector<KeyDef> flow = withDefaults(flowKeys());
   switch (table) {
     case KeyTable::Top:
       return top;
@@ -341,6 +410,8 @@ const std::vector<KeyDef>& keyDefs(KeyTable table) {
       return emitter;
     case KeyTable::Force:
       return force;
+    case KeyTable::Flow:
+      return flow;
     case KeyTable::Collider:
       break;
   }
@@ -407,9 +478,9 @@ const std::vector<SceneKey>& sceneKeys(KeyTable table) {
     for (const detail::KeyDef& d : detail::keyDefs(t)) keys.push_back(d.key);
     return keys;
   };
-  static const std::vector<SceneKey> tables[4] = {
+  static const std::vector<SceneKey> tables[5] = {
       collect(KeyTable::Top), collect(KeyTable::Emitter), collect(KeyTable::Force),
-      collect(KeyTable::Collider)};
+      collect(KeyTable::Collider), collect(KeyTable::Flow)};
   return tables[static_cast<int>(table)];
 }
 
@@ -419,7 +490,7 @@ void setSceneKey(Scene& scene, KeyTable table, size_t where, const std::string& 
   if (!def) throw InvalidArgument(key, detail::unknownKey(table, key));
   if (table == KeyTable::Top) {
     if (def->emitterZero && scene.emitters.empty()) scene.emitters.resize(1);
-  } else {
+  } else if (table != KeyTable::Flow) {
     const size_t size = table == KeyTable::Emitter ? scene.emitters.size()
                         : table == KeyTable::Force ? scene.forces.size()
                                                    : scene.colliders.size();

@@ -21,7 +21,12 @@ struct KeyDef {
   // The field's value as text that set() reads back exactly.
   std::function<std::string(const Scene&, size_t where)> text;
   bool emitterZero = false;  // a top-level key that sets emitter 0 (flat, format 1 files)
+  bool flowOnly = false;     // an emitter key that only scenes with a flow write out
 };
+
+// A flow emitter's mass when its table gives none: density (radius / 2)^3, particles spaced
+// half the radius apart.
+float defaultFlowMass(const Flow& flow);
 
 const std::vector<KeyDef>& keyDefs(KeyTable table);
 // The definition of `key` in `table`, or null.

@@ -20,6 +20,12 @@ uint64_t Scene::firstSlot(size_t emitter) const {
   return first;
 }
 
+bool Scene::flows() const {
+  for (const Emitter& e : emitters)
+    if (e.flow) return true;
+  return false;
+}
+
 uint64_t Scene::stepsIn(double seconds) const {
   return static_cast<uint64_t>(std::llround(seconds / double(h())));
 }
@@ -38,6 +44,52 @@ void checkCount(size_t count, uint32_t most, const char* table) {
                                      "]] tables, got " + std::to_string(count));
 }
 
+// The flow's keys and how they bound each other and the flow emitters' masses.
+void checkFlow(const Scene& scene) {
+  if (!scene.flow) {
+    for (size_t k = 0; k < scene.emitters.size(); ++k)
+      if (scene.emitters[k].flow)
+        throw InvalidArgument("emitter[" + std::to_string(k) + "].flow",
+                              "a flow emitter needs the scene's flow (the [flow] table)");
+    return;
+  }
+  const Flow& f = *scene.flow;
+  for (const detail::KeyDef& d : detail::keyDefs(KeyTable::Flow))
+    d.check(scene, 0, "flow." + d.key.name);
+  using detail::formatFloat;
+  if (!(f.solidus < f.temperature))
+    throw InvalidArgument("flow.solidus", "expected below flow.temperature (" +
+                                              formatFloat(f.temperature) + "), got " +
+                                              formatFloat(f.solidus));
+  if (f.viscositySolidus < f.viscosity)
+    throw InvalidArgument("flow.viscosity-solidus",
+                          "expected at least flow.viscosity (" + formatFloat(f.viscosity) +
+                              "): the flow stiffens as it cools, got " +
+                              formatFloat(f.viscositySolidus));
+  if ((double(f.coolingAir) + double(f.coolingGround)) * double(scene.h()) > 1.0)
+    throw InvalidArgument("flow.cooling-ground",
+                          "(cooling-air + cooling-ground) * dt must be at most 1, got (" +
+                              formatFloat(f.coolingAir) + " + " + formatFloat(f.coolingGround) +
+                              ") * " + detail::formatDouble(scene.dt));
+  // Particles spaced between radius/6 and 3 radius/4: a neighbourhood the sums resolve, and
+  // not thousands of neighbours.
+  const double lo = double(f.radius) / 6.0, hi = 0.75 * double(f.radius);
+  for (size_t k = 0; k < scene.emitters.size(); ++k) {
+    const Emitter& e = scene.emitters[k];
+    if (!e.flow) continue;
+    const double spacing = std::cbrt(double(e.mass) / double(f.density));
+    if (spacing < lo || spacing > hi)
+      throw InvalidArgument(
+          "emitter[" + std::to_string(k) + "].mass",
+          "a flow particle of " + formatFloat(e.mass) + " kg at flow.density " +
+              formatFloat(f.density) + " kg/m^3 is " + formatFloat(float(spacing)) +
+              " m across; expected radius/6 to 3 radius/4: a mass in [" +
+              formatFloat(float(double(f.density) * lo * lo * lo)) + ", " +
+              formatFloat(float(double(f.density) * hi * hi * hi)) + "] kg (a table without " +
+              "mass gets " + formatFloat(detail::defaultFlowMass(f)) + ")");
+  }
+}
+
 }  // namespace
 
 void checkScene(const Scene& scene) {
@@ -51,6 +103,7 @@ void checkScene(const Scene& scene) {
   checkTable(scene, KeyTable::Emitter, scene.emitters.size(), "emitter");
   checkTable(scene, KeyTable::Force, scene.forces.size(), "force");
   checkTable(scene, KeyTable::Collider, scene.colliders.size(), "collider");
+  checkFlow(scene);
   if (scene.particles() > (uint64_t{1} << 31))
     throw InvalidArgument("particles", "the emitters hold " + std::to_string(scene.particles()) +
                                            " slots together; at most 2^31");

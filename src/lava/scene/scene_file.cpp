@@ -44,8 +44,13 @@ std::string valueText(const std::string& parameter, const toml::node& node) {
   throw InvalidArgument(parameter, "expected a value, got a TOML " + typeName(node));
 }
 
-// Booleans are not numbers: a key whose kind is not a name must not get one.
+// Booleans are not numbers: only a flag takes one, and a flag takes nothing else.
 std::string keyText(const std::string& parameter, const toml::node& node, KeyKind kind) {
+  if (kind == KeyKind::Flag) {
+    if (!node.is_boolean())
+      throw InvalidArgument(parameter, "expected true or false, got a TOML " + typeName(node));
+    return valueText(parameter, node);
+  }
   if (node.is_boolean() && kind != KeyKind::Name)
     throw InvalidArgument(parameter, "expected a number, got a TOML boolean");
   if (node.is_string() && kind != KeyKind::Name)
@@ -75,6 +80,32 @@ void readTables(Scene& scene, const std::string& file, const char* prefix, KeyTa
   }
 }
 
+// The [flow] table; a flow emitter in a file without one gets the flow's defaults, and one
+// without `mass` particles spaced half the radius apart.
+void readFlow(Scene& scene, const std::string& file, const toml::table& root) {
+  if (const toml::node* node = root.get("flow")) {
+    const std::string at = file + ": flow";
+    const toml::table* entries = node->as_table();
+    if (!entries) throw InvalidArgument(at, "expected a [flow] table");
+    scene.flow.emplace();
+    for (const auto& [key, value] : *entries) {
+      const std::string name(key.str()), parameter = at + "." + name;
+      const detail::KeyDef* def = findKey(KeyTable::Flow, name);
+      if (!def) throw InvalidArgument(parameter, detail::unknownKey(KeyTable::Flow, name));
+      def->set(scene, 0, parameter, keyText(parameter, value, def->key.kind));
+    }
+  }
+  if (!scene.flows()) return;
+  if (!scene.flow) scene.flow.emplace();
+  const toml::array* emitters = root.get("emitter") ? root.get("emitter")->as_array() : nullptr;
+  for (size_t k = 0; k < scene.emitters.size(); ++k) {
+    const toml::table* entries =
+        emitters && k < emitters->size() ? (*emitters)[k].as_table() : nullptr;
+    if (scene.emitters[k].flow && entries && !entries->contains("mass"))
+      scene.emitters[k].mass = detail::defaultFlowMass(*scene.flow);
+  }
+}
+
 }  // namespace
 
 Scene parseScene(const std::string& text, const std::string& file, const OtherKey& other) {
@@ -89,7 +120,7 @@ Scene parseScene(const std::string& text, const std::string& file, const OtherKe
     throw InvalidArgument(file, at + ": not valid TOML (" + std::string(e.description()) + ")");
   }
   Scene scene;
-  const char* tables[] = {"emitter", "force", "collider"};
+  const char* tables[] = {"emitter", "force", "collider"};  // [flow] is read last
   const uint32_t most[] = {kMaxEmitters, kMaxForces, kMaxColliders};
   const KeyTable kinds[] = {KeyTable::Emitter, KeyTable::Force, KeyTable::Collider};
   scene.forces.clear();
@@ -121,7 +152,9 @@ Scene parseScene(const std::string& text, const std::string& file, const OtherKe
 
   for (const auto& [key, node] : root) {
     const std::string name(key.str()), parameter = file + ": " + name;
-    if ((name == "emitter" && emitterTables) || name == "force" || name == "collider") continue;
+    if ((name == "emitter" && emitterTables) || name == "force" || name == "collider" ||
+        name == "flow")
+      continue;
     if (name == "format") {
       const auto format = node.as_integer();
       if (!format || (format->get() != 1 && format->get() != 2))
@@ -132,12 +165,13 @@ Scene parseScene(const std::string& text, const std::string& file, const OtherKe
     if (!def) {
       if (other && other(name, valueText(parameter, node))) continue;
       throw InvalidArgument(parameter, detail::unknownKey(KeyTable::Top, name, "format, ") +
-                                           " or the tables [[emitter]], [[force]], [[collider]]");
+                                           " or the tables [[emitter]], [[force]], [[collider]], [flow]");
     }
     if (def->emitterZero && emitterTables)
       throw InvalidArgument(parameter, "set it in an [[emitter]] table (this file has them)");
     def->set(scene, 0, parameter, keyText(parameter, node, def->key.kind));
   }
+  readFlow(scene, file, root);
   return scene;
 }
 
@@ -153,7 +187,7 @@ std::string toToml(const Scene& scene) {
     out << d.key.name << " = ";
     if (d.key.kind == KeyKind::Vector)
       out << "[" << text << "]\n";
-    else if (d.key.kind == KeyKind::Name)
+    else if (d.key.kind == KeyKind::Name)  // flags, numbers: as they are
       out << "\"" << text << "\"\n";
     else
       out << text << "\n";
@@ -167,8 +201,13 @@ std::string toToml(const Scene& scene) {
   for (int t = 0; t < 3; ++t)
     for (size_t i = 0; i < counts[t]; ++i) {
       out << "\n[[" << tables[t].first << "]]\n";
-      for (const detail::KeyDef& d : detail::keyDefs(tables[t].second)) line(d, scene, i);
+      for (const detail::KeyDef& d : detail::keyDefs(tables[t].second))
+        if (scene.flow || !d.flowOnly) line(d, scene, i);  // scenes without a flow: as before
     }
+  if (scene.flow) {
+    out << "\n[flow]\n";
+    for (const detail::KeyDef& d : detail::keyDefs(KeyTable::Flow)) line(d, scene, 0);
+  }
   return out.str();
 }
 

@@ -306,9 +306,12 @@ std::string checkpointBytes(const Scene& scene, const State& state) {
   put<uint64_t>(step, state.step);
   const std::string clock = clockData(state);
   const std::string particles = bytesOf(state.particles.data(), state.particles.size());
+  // A flow's temperatures and crust flags (empty without one) join the checksum.
+  const std::string temperature = bytesOf(state.temperature.data(), state.temperature.size());
+  const std::string crust = bytesOf(state.crust.data(), state.crust.size());
   uint64_t checksum = common::kFnvOffset;
-  for (const std::string* part :
-       std::initializer_list<const std::string*>{&format, &sceneText, &step, &clock, &particles})
+  for (const std::string* part : std::initializer_list<const std::string*>{
+           &format, &sceneText, &step, &clock, &particles, &temperature, &crust})
     checksum = common::fnv1a(checksum, part->data(), part->size());
   const uint64_t hash = stateHash(state.particles);
   const uint64_t slots = state.particles.size();
@@ -318,7 +321,11 @@ std::string checkpointBytes(const Scene& scene, const State& state) {
   members.push_back({"step.npy", common::npyHeader("'<u8'", "()") + step});
   members.push_back({"clock.npy", common::npyHeader(kClockDescr, shapeOf(state.clocks.size())) + clock});
   members.push_back({"particles.npy", common::npyHeader("'<f4'", shapeOf(slots, 8)) + particles});
-  members.push_back({"state.npy", common::npyHeader("'<f4'", shapeOf(slots, 7)) + common::stateTable(state.particles)});
+  if (scene.flow) {
+    members.push_back({"temperature.npy", common::npyHeader("'<f4'", shapeOf(slots)) + temperature});
+    members.push_back({"crust.npy", common::npyHeader("'|u1'", shapeOf(slots)) + crust});
+  }
+  members.push_back({"state.npy", common::npyHeader("'<f4'", shapeOf(slots, common::stateColumns(state))) + common::stateTable(state)});
   members.push_back({"hash.npy", common::npyHeader("'<u8'", "(1,)") + bytesOf(&hash, 1)});
   members.push_back({"checksum.npy", common::npyHeader("'<u8'", "(1,)") + bytesOf(&checksum, 1)});
   return zip(members);
@@ -352,12 +359,19 @@ Snapshot parseCheckpoint(const std::string& bytes, const std::string& name) {
   const std::string particles = npyData(r, members, "particles", "'<f4'", shapeOf(slots, 8));
   const std::string hash = npyData(r, members, "hash", "'<u8'", "(1,)");
   const std::string checksum = npyData(r, members, "checksum", "'<u8'", "(1,)");
+  // A flow's arrays, when the file has them (its scene then has a flow: checked below).
+  const bool flow = members.count("temperature.npy") != 0 || members.count("crust.npy") != 0;
+  const std::string temperature =
+      flow ? npyData(r, members, "temperature", "'<f4'", shapeOf(slots)) : std::string();
+  const std::string crust =
+      flow ? npyData(r, members, "crust", "'|u1'", shapeOf(slots)) : std::string();
   if (step.size() != 8 || clock.size() != emitters * 20 || particles.size() != slots * 32 ||
-      hash.size() != 8 || checksum.size() != 8)
+      hash.size() != 8 || checksum.size() != 8 ||
+      (flow && (temperature.size() != slots * 4 || crust.size() != slots)))
     r.fail("truncated (an array is shorter than its shape)");
   uint64_t sum = common::kFnvOffset, expected = 0;
-  for (const std::string* part :
-       std::initializer_list<const std::string*>{&format, &sceneText, &step, &clock, &particles})
+  for (const std::string* part : std::initializer_list<const std::string*>{
+           &format, &sceneText, &step, &clock, &particles, &temperature, &crust})
     sum = common::fnv1a(sum, part->data(), part->size());
   std::memcpy(&expected, checksum.data(), 8);
   if (kCompareSums && sum != expected)
@@ -380,6 +394,9 @@ Snapshot parseCheckpoint(const std::string& bytes, const std::string& name) {
   }
   s.state.particles.resize(slots);
   std::memcpy(s.state.particles.data(), particles.data(), particles.size());
+  s.state.temperature.resize(temperature.size() / 4);
+  std::memcpy(s.state.temperature.data(), temperature.data(), temperature.size());
+  s.state.crust.assign(crust.begin(), crust.end());
   uint64_t stored = 0;
   std::memcpy(&stored, hash.data(), 8);
   if (stateHash(s.state.particles) != stored) r.fail("state hash mismatch (the file is corrupt)");

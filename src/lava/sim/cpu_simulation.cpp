@@ -5,7 +5,10 @@
 #include <cmath>
 #include <thread>
 
+#include <optional>
+
 #include "emission.h"
+#include "flow.h"
 #include "lava/error.h"
 #include "lava/simulation.h"
 #include "reference.h"
@@ -43,7 +46,8 @@ std::string CpuSimulation::simdTarget() const {
 
 std::string CpuSimulation::name() const {
   return (kernel_ == CpuKernel::Simd ? "cpu-simd " + simdTarget() : "cpu reference") + ", " +
-         std::to_string(threads_) + (threads_ == 1 ? " thread" : " threads");
+         std::to_string(threads_) + (threads_ == 1 ? " thread" : " threads") +
+         (kernel_ == CpuKernel::Simd && scene_.flows() ? ", the flow on the scalar kernel" : "");
 }
 
 void CpuSimulation::setState(const State& state) {
@@ -54,6 +58,8 @@ void CpuSimulation::setState(const State& state) {
 void CpuSimulation::advance(uint64_t steps) {
   const float h = scene_.h();
   const detail::Reference reference(scene_);
+  std::optional<detail::FlowStepper> flow;
+  if (scene_.flows()) flow.emplace(reference);
   std::vector<std::vector<detail::Births>> schedule(scene_.emitters.size());
   while (steps > 0) {
     const uint64_t batch = std::min(steps, kScheduleBatch);
@@ -76,6 +82,10 @@ void CpuSimulation::advance(uint64_t steps) {
       for (uint64_t first = begin; first < end;) {
         const size_t k = emitterOf(scene_, first);
         const uint64_t base = scene_.firstSlot(k);
+        if (scene_.emitters[k].flow) {  // stepped together below
+          first = std::min(end, base + scene_.emitters[k].particles);
+          continue;
+        }
         const uint64_t n =
             std::min({blockSize, end - first, base + scene_.emitters[k].particles - first});
         const uint32_t slot = static_cast<uint32_t>(first - base);
@@ -99,6 +109,21 @@ void CpuSimulation::advance(uint64_t steps) {
       for (unsigned t = 0; t < threads_; ++t)
         workers.emplace_back([&, t] { run(n * t / threads_, n * (t + 1) / threads_); });
       for (std::thread& w : workers) w.join();
+    }
+    // The flow particles interact: all of them go through each step together.
+    for (uint64_t i = 0; flow && i < batch; ++i) {
+      for (size_t k = 0; k < scene_.emitters.size(); ++k) {
+        if (!scene_.emitters[k].flow) continue;
+        const detail::Births& b = schedule[k][i];
+        const uint32_t capacity = scene_.emitters[k].particles;
+        for (uint32_t r = 0; r < b.count; ++r) {
+          const uint64_t slot = scene_.firstSlot(k) + (uint64_t(b.head) + r) % capacity;
+          reference.emit(k, b.firstSerial + r, state_.particles[slot]);
+          state_.temperature[slot] = flow->birthTemperature(k);
+          state_.crust[slot] = 0;
+        }
+      }
+      flow->step(state_);
     }
     steps -= batch;
   }

@@ -210,6 +210,11 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
     : Simulation(scene), impl_(std::make_unique<Impl>(device.context(), options)) {
   Impl& m = *impl_;
   detail::DeviceContext& c = m.c;
+  for (size_t k = 0; k < scene.emitters.size(); ++k)
+    if (scene.emitters[k].flow)
+      throw InvalidArgument("emitter[" + std::to_string(k) + "].flow",
+                            "the flow runs on the CPU backends only in this version: run it "
+                            "with the cpu or cpu-simd backend");
   if (options.maxStepsPerFrame < 1 || options.maxStepsPerFrame > 65536)
     throw InvalidArgument("maxStepsPerFrame",
                           "expected 1 to 65536, got " + std::to_string(options.maxStepsPerFrame));
@@ -521,6 +526,10 @@ State GpuSimulation::state() {
   }
   out.clocks = m.clocks;
   out.step = m.step;
+  if (scene_.flow) {  // a flow without flow emitters: every slot 0 K, none crust
+    out.temperature.assign(out.particles.size(), 0.0f);
+    out.crust.assign(out.particles.size(), 0);
+  }
   return out;
 }
 

@@ -20,6 +20,13 @@ void Simulation::setScene(const Scene& scene) {
       throw InvalidArgument(k == 0 ? "particles" : "emitter[" + std::to_string(k) + "].particles",
                             "a running simulation keeps its capacity (" +
                                 std::to_string(scene_.emitters[k].particles) + ")");
+  if (bool(scene.flow) != bool(scene_.flow))
+    throw InvalidArgument("flow", std::string("a running simulation keeps ") +
+                                      (scene_.flow ? "its flow" : "to no flow"));
+  for (size_t k = 0; k < scene.emitters.size(); ++k)
+    if (scene.emitters[k].flow != scene_.emitters[k].flow)
+      throw InvalidArgument("emitter[" + std::to_string(k) + "].flow",
+                            "a running simulation keeps which emitters are flow emitters");
   scene_ = scene;
 }
 

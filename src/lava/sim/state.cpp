@@ -11,6 +11,10 @@ State initialState(const Scene& scene) {
   State state;
   state.clocks.assign(scene.emitters.size(), EmitterClock{});
   state.particles.assign(scene.particles(), Particle{0, 0, 0, -1.0f, 0, 0, 0, 0});
+  if (scene.flow) {
+    state.temperature.assign(scene.particles(), 0.0f);
+    state.crust.assign(scene.particles(), 0);
+  }
   return state;
 }
 
@@ -23,6 +27,14 @@ void checkState(const Scene& scene, const State& state) {
     throw InvalidArgument("state", "has " + std::to_string(state.clocks.size()) +
                                        " emitter clocks; the scene has " +
                                        std::to_string(scene.emitters.size()) + " emitters");
+  const size_t flowSlots = scene.flow ? state.particles.size() : 0;
+  if (state.temperature.size() != flowSlots || state.crust.size() != flowSlots)
+    throw InvalidArgument("state", "has " + std::to_string(state.temperature.size()) +
+                                       " temperatures and " + std::to_string(state.crust.size()) +
+                                       " crust flags; the scene " +
+                                       (scene.flow ? "has a flow of " + std::to_string(flowSlots) +
+                                                         " slots"
+                                                   : std::string("has no flow")));
   for (size_t k = 0; k < state.clocks.size(); ++k)
     if (state.clocks[k].head >= scene.emitters[k].particles)
       throw InvalidArgument("state", "emitter " + std::to_string(k) + "'s head " +

@@ -1,0 +1,326 @@
+// The flow on the CPU (docs/model.md, "The flow"): the grid, the two neighbour passes and the
+// flow particles' step, one particle at a time, in plain float32 built with -ffp-contract=off.
+#include "flow.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "constants.h"
+#include "model-inl.h"
+#include "reference.h"
+
+namespace lava::detail {
+namespace {
+
+using Model = scalar::Model<float>;
+using V = Model::V3;
+
+constexpr uint32_t kNotFlow = std::numeric_limits<uint32_t>::max();
+constexpr double kPi = 3.14159265358979323846;
+// Cells are clamped to +-2^20 per axis (far particles share the outermost cells).
+constexpr float kCellLimit = 1048576.0f;
+
+float tiny(float term) {
+  return std::fabs(term) < kTinyTerm ? 0.0f : term;
+}
+
+// 1/q from 1/sqrt(q) squared: multiplications only, the same bits everywhere.
+float reciprocal(float q) {
+  const float y = Model::inverseRoot(q);
+  return y * y;
+}
+
+// At most 1: the factor that keeps a particle's exchange rates summing to at most 1/2.
+float stable(float rate) {
+  return rate > 0.5f ? 0.5f * reciprocal(rate) : 1.0f;
+}
+
+// The rest spacing and volume of the first flow emitter's particles.
+double restVolume(const Scene& scene) {
+  for (const Emitter& e : scene.emitters)
+    if (e.flow) return double(e.mass) / double(scene.flow->density);
+  const double half = 0.5 * double(scene.flow->radius);
+  return half * half * half;
+}
+
+// The sum of (1 - r/radius)^3 over the cubic lattice of spacing `spacing` around a point
+// (itself included), over the pairs that count (t > kPairCut).
+double latticeSum(double spacing, double radius) {
+  const int n = int(std::ceil(radius / spacing));
+  double sum = 0.0;
+  for (int a = -n; a <= n; ++a)
+    for (int b = -n; b <= n; ++b)
+      for (int c = -n; c <= n; ++c) {
+        const double q = spacing * spacing * double(a * a + b * b + c * c);
+        if (1.0 - q / (radius * radius) <= double(kPairCut)) continue;
+        const double u = 1.0 - std::sqrt(q) / radius;
+        sum += u * u * u;
+      }
+  return sum;
+}
+
+// The distance r of a pair and its unit direction n from j to i: coincident pairs (no
+// direction) are pushed apart along x, the lower slot towards -x.
+float distance(float q, const V& d, uint32_t i, uint32_t j, V& n) {
+  if (!(q >= kCoincident)) {
+    n = V{i < j ? -1.0f : 1.0f, 0.0f, 0.0f};
+    return 0.0f;
+  }
+  const float inv = Model::inverseRoot(q);
+  n = inv * d;
+  return q * inv;
+}
+
+}  // namespace
+
+FlowConstants flowConstants(const Scene& scene) {
+  const Flow& f = *scene.flow;
+  const double radius = f.radius, h = scene.h();
+  const double spacing = std::cbrt(restVolume(scene));
+  const double c = std::min(double(f.soundSpeed), 0.4 * radius / h);
+  FlowConstants k{};
+  k.invRadius = float(1.0 / radius);
+  k.invRadius2 = float(1.0 / (radius * radius));
+  k.touch2 = float(1.5625 * spacing * spacing);
+  k.pressure = float(c * c);
+  k.solidus = f.solidus;
+  k.temperature = f.temperature;
+  k.ambient = f.ambient;
+  k.viscosity = f.viscosity;
+  k.viscositySolidus = f.viscositySolidus;
+  k.tableScale = float(double(kViscosityEntries - 1) / (double(f.temperature) - f.solidus));
+  // Geometric from the solidus's viscosity to the eruption's: an Arrhenius-like rise as it
+  // cools, tabulated so that no shader evaluates a transcendental function.
+  for (uint32_t i = 0; i < kViscosityEntries; ++i) {
+    const double u = double(i) / double(kViscosityEntries - 1);
+    k.table[i] = f.viscositySolidus == 0.0f
+                     ? 0.0f
+                     : float(double(f.viscositySolidus) *
+                             std::pow(double(f.viscosity) / f.viscositySolidus, u));
+  }
+  k.table[0] = f.viscositySolidus;
+  k.table[kViscosityEntries - 1] = f.viscosity;
+  k.coolAir = float(h * f.coolingAir);
+  k.coolContact = float(h * (double(f.coolingAir) + f.coolingGround));
+  k.conduction = float(2.0 * f.conduction);
+  return k;
+}
+
+FlowWeights flowWeights(const Scene& scene, size_t emitter) {
+  const Emitter& e = scene.emitters[emitter];
+  if (!e.flow) return {};
+  const Flow& f = *scene.flow;
+  const double radius = f.radius, v = double(e.mass) / f.density, v0 = restVolume(scene);
+  const double r2 = radius * radius;
+  const double density = v / (v0 * latticeSum(std::cbrt(v0), radius));
+  return {float(density), float(3.0 * density / radius),
+          float(double(scene.h()) * v * 945.0 / (32.0 * kPi * r2 * r2 * radius)),
+          e.temperature == 0.0f ? f.temperature : e.temperature};
+}
+
+Cell cellOf(float x, float y, float z, float invRadius) {
+  auto axis = [invRadius](float p) {
+    const float u = std::min(std::max(p * invRadius, -kCellLimit), kCellLimit - 1.0f);
+    return int32_t(std::floor(u));
+  };
+  return {axis(x), axis(y), axis(z)};
+}
+
+uint32_t bucketOf(const Cell& c, uint32_t buckets) {
+  return ((uint32_t(c.x) * 73856093u) ^ (uint32_t(c.y) * 19349663u) ^
+          (uint32_t(c.z) * 83492791u)) &
+         (buckets - 1u);
+}
+
+uint32_t flowBuckets(uint64_t slots) {
+  uint32_t buckets = 1024;
+  while (buckets < 2 * slots && buckets < (1u << 30)) buckets *= 2;
+  return buckets;
+}
+
+float flowViscosity(const FlowConstants& k, float t) {
+  if (t >= k.temperature) return k.viscosity;
+  if (t <= k.solidus) return k.viscositySolidus;
+  const float x = (t - k.solidus) * k.tableScale;
+  const uint32_t i = std::min(uint32_t(x), kViscosityEntries - 2);
+  const float f = x - float(i);
+  return k.table[i] + f * (k.table[i + 1] - k.table[i]);
+}
+
+FlowStepper::FlowStepper(const Reference& reference)
+    : reference_(reference), contact_(reference.scene()), k_(flowConstants(reference.scene())) {
+  const Scene& s = reference.scene();
+  contact_.restitution = s.flow->restitution;
+  for (Collider& c : contact_.colliders) c.restitution = s.flow->restitution;
+  uint64_t slots = 0;
+  emitterOfSlot_.assign(s.particles(), kNotFlow);
+  for (size_t e = 0; e < s.emitters.size(); ++e) {
+    weights_.push_back(flowWeights(s, e));
+    if (!s.emitters[e].flow) continue;
+    const uint64_t first = s.firstSlot(e);
+    std::fill_n(emitterOfSlot_.begin() + first, s.emitters[e].particles, uint32_t(e));
+    slots += s.emitters[e].particles;
+  }
+  buckets_ = flowBuckets(slots);
+  const size_t n = s.particles();
+  cells_.resize(n);
+  theta_.resize(n);
+  pi_.resize(n);
+  viscosity_.resize(n);
+  viscous_.resize(n);
+  conductive_.resize(n);
+  touches_.resize(n);
+}
+
+// Alive flow slots sorted by bucket, and within a bucket by slot: a counting sort, stable
+// in slot order.
+void FlowStepper::sort(const State& state) {
+  start_.assign(buckets_ + 1, 0);
+  sorted_.clear();
+  for (size_t i = 0; i < state.particles.size(); ++i) {
+    const Particle& p = state.particles[i];
+    if (emitterOfSlot_[i] == kNotFlow || p.age < 0.0f) continue;
+    cells_[i] = cellOf(p.px, p.py, p.pz, k_.invRadius);
+    ++start_[bucketOf(cells_[i], buckets_) + 1];
+  }
+  for (uint32_t b = 0; b < buckets_; ++b) start_[b + 1] += start_[b];
+  sorted_.resize(start_[buckets_]);
+  std::vector<uint32_t> next(start_.begin(), start_.end() - 1);
+  for (size_t i = 0; i < state.particles.size(); ++i)
+    if (emitterOfSlot_[i] != kNotFlow && !(state.particles[i].age < 0.0f))
+      sorted_[next[bucketOf(cells_[i], buckets_)]++] = uint32_t(i);
+}
+
+// Calls visit(j, d, q, t) for every flow particle j within the radius of particle i (i
+// itself included): the cells z, then y, then x from -1 to +1, each bucket's slots in order.
+template <class Visit>
+void FlowStepper::neighbours(const State& state, size_t i, const Visit& visit) const {
+  const Particle& p = state.particles[i];
+  const Cell c = cells_[i];
+  for (int32_t dz = -1; dz <= 1; ++dz)
+    for (int32_t dy = -1; dy <= 1; ++dy)
+      for (int32_t dx = -1; dx <= 1; ++dx) {
+        const Cell n{c.x + dx, c.y + dy, c.z + dz};
+        const uint32_t b = bucketOf(n, buckets_);
+        for (uint32_t e = start_[b]; e < start_[b + 1]; ++e) {
+          const uint32_t j = sorted_[e];
+          if (!(cells_[j] == n)) continue;
+          const Particle& o = state.particles[j];
+          const V d{p.px - o.px, p.py - o.py, p.pz - o.pz};
+          const float q = dot(d, d);
+          const float t = 1.0f - q * k_.invRadius2;
+          if (t > kPairCut) visit(j, d, q, t);
+        }
+      }
+}
+
+void FlowStepper::step(State& state) {
+  sort(state);
+  const Scene& s = reference_.scene();
+  const float h = s.h();
+  std::vector<Particle>& particles = state.particles;
+  const std::vector<float>& temperature = state.temperature;
+  const std::vector<uint8_t>& crust = state.crust;
+
+  for (uint32_t i : sorted_) viscosity_[i] = flowViscosity(k_, temperature[i]);
+  // Pass 1: the density ratio theta, the exchange rates of viscosity and conduction, and
+  // whether a solid particle touches crust.
+  for (uint32_t i : sorted_) {
+    float theta = 0.0f, viscous = 0.0f, conductive = 0.0f;
+    bool touches = false;
+    const float nu = viscosity_[i];
+    neighbours(state, i, [&](uint32_t j, const V& d, float q, float t) {
+      const FlowWeights& w = weights_[emitterOfSlot_[j]];
+      V n;
+      const float tr = std::max(1.0f - distance(q, d, uint32_t(i), j, n) * k_.invRadius, 0.0f);
+      theta = theta + w.density * ((tr * tr) * tr);
+      if (j == i) return;
+      const float t2 = t * t;
+      viscous = viscous + tiny((w.laplacian * (nu + viscosity_[j])) * t2);
+      conductive = conductive + tiny(w.laplacian * t2);
+      touches = touches || (crust[j] != 0 && q < k_.touch2);
+    });
+    theta_[i] = theta;
+    const float inverse = reciprocal(theta);
+    pi_[i] = ((k_.pressure * std::max(theta - 1.0f, 0.0f)) * inverse) * inverse;
+    viscous_[i] = stable(viscous);
+    conductive_[i] = stable(k_.conduction * conductive);
+    touches_[i] = touches;
+  }
+
+  // Pass 2 and the step: every particle reads the start-of-step state of the others.
+  next_.resize(sorted_.size());
+  for (size_t e = 0; e < sorted_.size(); ++e) {
+    const uint32_t i = sorted_[e];
+    const size_t emitter = emitterOfSlot_[i];
+    const Particle& p = particles[i];
+    const bool isCrust = crust[i] != 0;
+    const bool liquid = !isCrust && temperature[i] > k_.solidus;
+    V a{0.0f, 0.0f, 0.0f}, dv{0.0f, 0.0f, 0.0f};
+    float dT = 0.0f;
+    neighbours(state, i, [&](uint32_t j, const V& d, float q, float t) {
+      if (j == i) return;
+      const FlowWeights& w = weights_[emitterOfSlot_[j]];
+      const Particle& o = particles[j];
+      const float t2 = t * t;
+      dT = dT + tiny(((w.laplacian * k_.conduction) * t2) *
+                     std::min(conductive_[i], conductive_[j]) * (temperature[j] - temperature[i]));
+      if (!liquid) return;
+      V n;
+      const float tr = std::max(1.0f - distance(q, d, i, j, n) * k_.invRadius, 0.0f);
+      const float push = (w.pressure * (pi_[i] + pi_[j])) * (tr * tr);
+      a = a + V{tiny(push * n.x), tiny(push * n.y), tiny(push * n.z)};
+      const float rate = ((w.laplacian * (viscosity_[i] + viscosity_[j])) * t2) *
+                         std::min(viscous_[i], viscous_[j]);
+      dv = dv + V{tiny(rate * (o.vx - p.vx)), tiny(rate * (o.vy - p.vy)),
+                  tiny(rate * (o.vz - p.vz))};
+    });
+
+    V x{p.px, p.py, p.pz}, v{p.vx, p.vy, p.vz};
+    bool touched = false, becomesCrust = isCrust;
+    if (!isCrust) {
+      const EmitterConstants& ek = reference_.constants(emitter);
+      if (liquid) {  // viscosity, then a semi-implicit Euler step with pressure and the forces
+        v = Model::flushed(v + dv);
+        const V f = Model::force<Modules::Any>(s, x, v, ek.w);
+        v = Model::flushed((v + ek.hm * f) + h * a);
+        x = x + h * v;
+      } else if (touches_[i]) {  // a solid touching crust: crust where it is
+        becomesCrust = true;
+      } else {  // a cinder: falls as any particle
+        v = Model::flushed(v + ek.hm * Model::force<Modules::Any>(s, x, v, ek.w));
+        x = x + h * v;
+      }
+      if (!becomesCrust) {
+        const V moved = x;
+        Model::ground(contact_, x, v);
+        for (size_t c = 0; c < contact_.colliders.size(); ++c)
+          Model::collide(contact_.colliders[c], reference_.planeNormal(c), reference_.cone(c), x,
+                         v);
+        touched = moved.x != x.x || moved.y != x.y || moved.z != x.z;
+        becomesCrust = !liquid && touched;
+      }
+      if (becomesCrust) v = V{0.0f, 0.0f, 0.0f};
+    }
+    const float cool = touched ? k_.coolContact : k_.coolAir;
+    float t1 = (temperature[i] + dT) - cool * (temperature[i] - k_.ambient);
+    float age = p.age + h;
+    const float lifetime = s.emitters[emitter].lifetime;
+    if (lifetime > 0.0f && age >= lifetime) {  // dies: an unborn slot's temperature and flag
+      age = -1.0f;
+      t1 = 0.0f;
+      becomesCrust = false;
+    }
+    next_[e] = {{x.x, x.y, x.z, age, v.x, v.y, v.z, p.mass}, t1, uint8_t(becomesCrust ? 1 : 0)};
+  }
+  for (size_t e = 0; e < sorted_.size(); ++e) {
+    const uint32_t i = sorted_[e];
+    particles[i] = next_[e].particle;
+    state.temperature[i] = next_[e].temperature;
+    state.crust[i] = next_[e].crust;
+  }
+}
+
+}  // namespace lava::detail

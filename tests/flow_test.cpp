@@ -1,0 +1,354 @@
+// The flow (docs/model.md, "The flow") on the CPU: its scene keys, its state and columns, and
+// how a pool of it behaves: it spreads and settles, runs downhill, runs further hot than
+// cool, crusts over, never gains energy, and stays above the ground and out of colliders.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "common/npy.h"
+#include "lava/checkpoint.h"
+#include "lava/error.h"
+#include "lava/scene.h"
+#include "lava/simulation.h"
+#include "scene/keys.h"
+#include "sim/flow.h"
+
+namespace lava {
+namespace {
+
+// A pool of `n` flow particles released at rest from a box above the ground at `x`, with
+// no cooling unless a test asks for it.
+Scene poolScene(uint32_t n, float x = 0.0f) {
+  Scene s;
+  s.flow.emplace();
+  s.flow->coolingAir = 0.0f;
+  s.flow->coolingGround = 0.0f;
+  Emitter& e = s.emitters[0];
+  e.particles = n;
+  e.rate = 0.0;
+  e.burst = n;
+  e.shape = Shape::Box;
+  const float side = 0.5f * std::cbrt(float(n) * 2.7e-5f);  // n particles spaced 3 cm
+  e.size = {side, side, side};
+  e.position = {x, side + 0.01f, 0.0f};
+  e.velocity = {0.0f, 0.0f, 0.0f};
+  e.spread = {0.0f, 0.0f, 0.0f};
+  e.flow = true;
+  e.mass = detail::defaultFlowMass(*s.flow);
+  return s;
+}
+
+double kineticEnergy(const State& state) {
+  double e = 0.0;
+  for (const Particle& p : state.particles)
+    if (!(p.age < 0.0f)) e += 0.5 * p.mass * (double(p.vx) * p.vx + double(p.vy) * p.vy +
+                                              double(p.vz) * p.vz);
+  return e;
+}
+
+// The horizontal distance from the pool's centre within which 90% of it lies.
+double spread(const State& state) {
+  double cx = 0.0, cz = 0.0;
+  size_t n = 0;
+  for (const Particle& p : state.particles)
+    if (!(p.age < 0.0f)) cx += p.px, cz += p.pz, ++n;
+  cx /= double(n), cz /= double(n);
+  std::vector<double> r;
+  for (const Particle& p : state.particles)
+    if (!(p.age < 0.0f)) r.push_back(std::hypot(p.px - cx, p.pz - cz));
+  std::sort(r.begin(), r.end());
+  return r[r.size() * 9 / 10];
+}
+
+double meanX(const State& state) {
+  double x = 0.0;
+  for (const Particle& p : state.particles) x += p.px;
+  return x / double(state.particles.size());
+}
+
+double medianNearest(const State& state) {
+  std::vector<double> nearest;
+  for (const Particle& a : state.particles) {
+    double best = 1e30;
+    for (const Particle& b : state.particles)
+      if (&a != &b)
+        best = std::min(best, std::hypot(double(a.px) - b.px, double(a.py) - b.py,
+                                         double(a.pz) - b.pz));
+    nearest.push_back(best);
+  }
+  std::sort(nearest.begin(), nearest.end());
+  return nearest[nearest.size() / 2];
+}
+
+void expectSound(const State& state) {
+  for (size_t i = 0; i < state.particles.size(); ++i) {
+    const Particle& p = state.particles[i];
+    for (float f : {p.px, p.py, p.pz, p.vx, p.vy, p.vz, p.age, state.temperature[i]})
+      ASSERT_TRUE(std::isfinite(f)) << "slot " << i;
+    ASSERT_GE(p.py, 0.0f) << "slot " << i << " is below the ground";
+  }
+}
+
+TEST(FlowKeys, TheTableAndTheEmitterKeysReadBack) {
+  const Scene s = parseScene(R"(
+[[emitter]]
+flow = true
+temperature = 1300
+[[emitter]]
+particles = 10
+[flow]
+radius = 0.05
+viscosity-solidus = 7
+conduction = 1e-3
+)",
+                             "flow.toml");
+  ASSERT_TRUE(s.flow);
+  EXPECT_EQ(s.flow->radius, 0.05f);
+  EXPECT_EQ(s.flow->viscositySolidus, 7.0f);
+  EXPECT_EQ(s.flow->temperature, 1400.0f);  // the default
+  EXPECT_TRUE(s.emitters[0].flow);
+  EXPECT_FALSE(s.emitters[1].flow);
+  EXPECT_EQ(s.emitters[0].temperature, 1300.0f);
+  // A flow emitter without `mass`: particles spaced half the radius apart; others keep 1 kg.
+  EXPECT_EQ(s.emitters[0].mass, detail::defaultFlowMass(*s.flow));
+  EXPECT_NEAR(s.emitters[0].mass, 2600.0 * 0.025 * 0.025 * 0.025, 1e-6);
+  EXPECT_EQ(s.emitters[1].mass, 1.0f);
+  EXPECT_EQ(toToml(parseScene(toToml(s), "again")), toToml(s));
+}
+
+TEST(FlowKeys, AFlowEmitterWithoutTheTableGetsTheDefaults) {
+  const Scene s = parseScene("[[emitter]]\nflow = true\n", "f.toml");
+  ASSERT_TRUE(s.flow);
+  EXPECT_EQ(s.flow->radius, 0.06f);
+  EXPECT_EQ(s.emitters[0].mass, detail::defaultFlowMass(*s.flow));
+}
+
+TEST(FlowKeys, ScenesWithoutAFlowWriteWhatTheyWroteBefore) {
+  const std::string text = toToml(Scene{});
+  EXPECT_EQ(text.find("flow"), std::string::npos) << text;
+  EXPECT_EQ(text.find("temperature"), std::string::npos) << text;
+  EXPECT_FALSE(parseScene(text, "t").flow);
+}
+
+std::string errorOf(const std::string& toml) {
+  try {
+    parseScene(toml, "f.toml");
+    checkScene(parseScene(toml, "f.toml"));
+  } catch (const InvalidArgument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(FlowKeys, BadValuesNameTheKeyAndWhatIsAccepted) {
+  EXPECT_NE(errorOf("[[emitter]]\nflow = 1\n").find("flow: expected true or false"),
+            std::string::npos);
+  EXPECT_NE(errorOf("[flow]\nradius = -1\n").find("flow.radius"), std::string::npos);
+  EXPECT_NE(errorOf("[flow]\nsolidus = 1500\n").find("flow.solidus: expected below"),
+            std::string::npos);
+  EXPECT_NE(errorOf("[flow]\nviscosity = 9\n").find("flow.viscosity-solidus: expected at least"),
+            std::string::npos);
+  EXPECT_NE(errorOf("[flow]\nviscosty = 9\n").find("did you mean viscosity?"), std::string::npos);
+  EXPECT_NE(errorOf("flow = 3\n").find("flow"), std::string::npos);
+  // 1 kg at 2600 kg/m^3 is 7 cm across, wider than the radius's 3/4.
+  const std::string mass = errorOf("[[emitter]]\nflow = true\nmass = 1\n");
+  EXPECT_NE(mass.find("emitter[0].mass: a flow particle of 1 kg"), std::string::npos) << mass;
+  EXPECT_NE(errorOf("dt = 0.01\n[flow]\ncooling-air = 60\ncooling-ground = 50\n")
+                .find("flow.cooling-ground"),
+            std::string::npos);
+  Scene code;
+  code.emitters[0].flow = true;  // without Scene::flow
+  EXPECT_THROW(checkScene(code), InvalidArgument);
+}
+
+TEST(FlowKeys, ViscosityIsExactAtBothEndsAndMonotoneBetween) {
+  Scene s = poolScene(8);
+  s.flow->viscosity = 0.05f;
+  s.flow->viscositySolidus = 5.0f;
+  const detail::FlowConstants k = detail::flowConstants(s);
+  EXPECT_EQ(detail::flowViscosity(k, 1400.0f), 0.05f);
+  EXPECT_EQ(detail::flowViscosity(k, 2000.0f), 0.05f);
+  EXPECT_EQ(detail::flowViscosity(k, 1000.0f), 5.0f);
+  float last = 5.0f;
+  for (float t = 1000.0f; t <= 1400.0f; t += 0.37f) {
+    const float nu = detail::flowViscosity(k, t);
+    ASSERT_LE(nu, last) << t << " K";
+    last = nu;
+  }
+}
+
+TEST(FlowState, TheTemperatureColumnHoldsFlowParticlesOnly) {
+  Scene s = poolScene(64);
+  s.emitters.push_back(Emitter{});  // sparks
+  s.emitters[1].particles = 100;
+  s.emitters[1].rate = 20000.0;
+  s.emitters[0].temperature = 1350.0f;
+  s.emitters[0].particles = 80;  // 16 slots stay unborn
+  CpuSimulation cpu(s, 1);
+  cpu.advance(3);
+  const State state = cpu.state();
+  ASSERT_EQ(common::stateColumns(state), 8u);
+  for (size_t i = 0; i < state.particles.size(); ++i) {
+    float row[8];
+    common::stateRow(state, i, row);
+    if (i < 64)
+      EXPECT_NEAR(row[7], 1350.0f, 1e-3f) << i;  // born at 1350 K, no cooling
+    else
+      EXPECT_EQ(row[7], 0.0f) << i << (i < 80 ? " (unborn)" : " (a spark)");
+  }
+  EXPECT_EQ(common::stateColumns(CpuSimulation(Scene{}, 1).state()), 7u);
+}
+
+TEST(FlowState, ACheckpointResumesTheFlowBitForBit) {
+  Scene s = poolScene(300);
+  s.flow->coolingAir = 5.0f;  // crust forms within the run
+  CpuSimulation straight(s, 1);
+  straight.advance(400);
+  CpuSimulation first(s, 1);
+  first.advance(200);
+  const Snapshot saved = parseCheckpoint(checkpointBytes(s, first.state()), "test");
+  CpuSimulation second(saved.scene, 2);
+  second.setState(saved.state);
+  second.advance(200);
+  const State a = straight.state(), b = second.state();
+  EXPECT_EQ(0, std::memcmp(a.particles.data(), b.particles.data(),
+                           a.particles.size() * sizeof(Particle)));
+  EXPECT_EQ(a.temperature, b.temperature);
+  EXPECT_EQ(a.crust, b.crust);
+}
+
+TEST(FlowState, TheSimdKernelGivesTheReferenceBytes) {
+  Scene s = poolScene(300);
+  s.emitters.push_back(Emitter{});
+  s.emitters[1].particles = 500;
+  CpuSimulation scalar(s, 1), simd(s, 2, CpuKernel::Simd);
+  scalar.advance(300);
+  simd.advance(300);
+  const State a = scalar.state(), b = simd.state();
+  EXPECT_EQ(stateHash(a.particles), stateHash(b.particles));
+  EXPECT_EQ(a.temperature, b.temperature);
+}
+
+TEST(FlowPhysics, APoolReleasedAtRestSpreadsSettlesAndNeverGainsEnergy) {
+  const Scene s = poolScene(500);
+  CpuSimulation cpu(s, 1);
+  cpu.advance(50);
+  const double start = spread(cpu.state());
+  cpu.advance(950);
+  EXPECT_GT(spread(cpu.state()), 1.5 * start) << "it spreads";
+  // Once the collapse is over, the energy only falls, to exactly 0: the pool stops.
+  double last = kineticEnergy(cpu.state());
+  uint64_t settled = 0;
+  for (uint64_t second = 2; second <= 12 && !settled; ++second) {
+    cpu.advance(1000);
+    const double e = kineticEnergy(cpu.state());
+    ASSERT_LE(e, last) << "after " << second << " s";
+    if (e == 0.0) settled = second;
+    last = e;
+  }
+  ASSERT_NE(settled, 0u) << "the pool still moves after 12 s: " << last << " J";
+  const State rest = cpu.state();
+  for (int k = 0; k < 100; ++k) {  // and never moves again
+    cpu.advance(10);
+    ASSERT_EQ(kineticEnergy(cpu.state()), 0.0) << (k + 1) * 10 << " steps after " << settled
+                                                << " s";
+  }
+  expectSound(rest);
+  const double nearest = medianNearest(rest);
+  EXPECT_GT(nearest, 0.25 * s.flow->radius);
+  EXPECT_LT(nearest, s.flow->radius);
+}
+
+TEST(FlowPhysics, OnAPlaneTiltedTwentyDegreesThePoolRunsDownhill) {
+  // The plane falls towards +x: y = -tan(20 deg) x, above the ground where x < 0.
+  Scene s = poolScene(500, -1.5f);
+  const float tilt = 20.0f * 3.14159265f / 180.0f;
+  Collider plane;
+  plane.type = ColliderType::Plane;
+  plane.normal = {std::sin(tilt), std::cos(tilt), 0.0f};
+  s.colliders.push_back(plane);
+  s.emitters[0].position.y += 1.5f * std::tan(tilt);
+  CpuSimulation cpu(s, 1);
+  cpu.advance(400);  // the collapse
+  const double before = meanX(cpu.state());
+  cpu.advance(1600);
+  const State after = cpu.state();
+  expectSound(after);
+  EXPECT_GT(meanX(after), before + 0.02) << "it runs downhill (+x)";
+}
+
+double spreadAfter(Scene s, uint64_t steps) {
+  CpuSimulation cpu(s, 1);
+  cpu.advance(steps);
+  expectSound(cpu.state());
+  return spread(cpu.state());
+}
+
+TEST(FlowPhysics, TheLessViscousPoolSpreadsFurther) {
+  Scene thin = poolScene(500), thick = poolScene(500);
+  thin.flow->viscosity = 0.01f;
+  thick.flow->viscosity = 1.0f;
+  EXPECT_GT(spreadAfter(thin, 1000), 1.1 * spreadAfter(thick, 1000));
+}
+
+TEST(FlowPhysics, AHotterPoolRunsFurtherThanACoolerOne) {
+  Scene hot = poolScene(500), cool = poolScene(500);
+  hot.emitters[0].temperature = 1400.0f;
+  cool.emitters[0].temperature = 1050.0f;  // above the solidus, far more viscous
+  EXPECT_GT(spreadAfter(hot, 1000), 1.1 * spreadAfter(cool, 1000));
+}
+
+TEST(FlowPhysics, CrustStopsExactlyAndNeverMovesAgain) {
+  Scene s = poolScene(500);
+  s.flow->coolingAir = 4.0f;  // from 1400 K to the solidus in about 0.4 s
+  s.flow->coolingGround = 4.0f;
+  CpuSimulation cpu(s, 1);
+  cpu.advance(1000);
+  const State a = cpu.state();
+  size_t crust = 0;
+  for (size_t i = 0; i < a.particles.size(); ++i)
+    if (a.crust[i]) {
+      ++crust;
+      EXPECT_LE(a.temperature[i], s.flow->solidus);
+      EXPECT_TRUE(a.particles[i].vx == 0.0f && a.particles[i].vy == 0.0f &&
+                  a.particles[i].vz == 0.0f)
+          << "slot " << i;
+    }
+  EXPECT_GT(crust, a.particles.size() / 2) << "most of the pool has crusted";
+  cpu.advance(500);
+  const State b = cpu.state();
+  for (size_t i = 0; i < a.particles.size(); ++i)
+    if (a.crust[i]) {
+      ASSERT_TRUE(b.crust[i]);
+      EXPECT_EQ(a.particles[i].px, b.particles[i].px);
+      EXPECT_EQ(a.particles[i].py, b.particles[i].py);
+      EXPECT_EQ(a.particles[i].pz, b.particles[i].pz);
+      EXPECT_EQ(b.particles[i].vy, 0.0f);
+    }
+}
+
+TEST(FlowPhysics, NoParticleEndsInsideACollider) {
+  Scene s = poolScene(500);
+  s.emitters[0].position.y += 0.5f;  // falls onto a sphere
+  Collider ball;
+  ball.type = ColliderType::Sphere;
+  ball.position = {0.05f, 0.2f, 0.0f};
+  ball.radius = 0.2f;
+  s.colliders.push_back(ball);
+  CpuSimulation cpu(s, 1);
+  for (int k = 0; k < 10; ++k) {
+    cpu.advance(100);
+    const State state = cpu.state();
+    expectSound(state);
+    for (const Particle& p : state.particles) {
+      const float dx = p.px - 0.05f, dy = p.py - 0.2f, dz = p.pz;
+      ASSERT_GE(dx * dx + dy * dy + dz * dz, 0.2f * 0.2f * (1.0f - 1e-5f));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace lava
