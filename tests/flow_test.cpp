@@ -220,6 +220,16 @@ TEST(FlowState, ACheckpointResumesTheFlowBitForBit) {
   EXPECT_EQ(a.crust, b.crust);
 }
 
+TEST(FlowState, ThreadCountsGiveTheSameBytes) {
+  const Scene s = poolScene(3000);  // past the size at which the flow's passes split
+  CpuSimulation one(s, 1), two(s, 2), three(s, 3);
+  for (CpuSimulation* sim : {&one, &two, &three}) sim->advance(150);
+  const State a = one.state(), b = two.state(), c = three.state();
+  EXPECT_EQ(stateHash(a.particles), stateHash(b.particles));
+  EXPECT_EQ(stateHash(a.particles), stateHash(c.particles));
+  EXPECT_EQ(a.temperature, c.temperature);
+}
+
 TEST(FlowState, TheSimdKernelGivesTheReferenceBytes) {
   Scene s = poolScene(300);
   s.emitters.push_back(Emitter{});

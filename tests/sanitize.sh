@@ -2,12 +2,13 @@
 # Lava's library, program, examples and tests built with AddressSanitizer and
 # UndefinedBehaviorSanitizer (any report fails), then the test suite on lavapipe, in three
 # runs:
-#   1. the tests that load no Vulkan, with leak checking;
-#   2. the other tests with the validation layer (not the other drivers' tests: the same
-#      code of Lava's; the embedding tests take the descriptor sets' path; nor the soak of a
+#   1. the tests that load no Vulkan (the flow's included), with leak checking;
+#   2. the others with the validation layer (not the other drivers' tests: the same code
+#      of Lava's; the embedding tests take the descriptor sets' path; nor the soak of a
 #      million steps, which runs the host code of a thousand-step test a thousand times and
-#      is the plain suite's), leak checking off: the loader unloads the validation layer and lavapipe's ICD at vkDestroyInstance, and what they keep until
-#      then can no longer be attributed to them (LeakSanitizer reports it as ours);
+#      is the plain suite's), leak checking off: the loader unloads the validation layer
+#      and lavapipe's ICD at vkDestroyInstance, and what they keep until then can no longer
+#      be attributed to them (LeakSanitizer reports it as ours);
 #   3. the program's tests (label "program": build/lava run as users run it, the
 #      fault-injection table included) with leak checking on: lavapipe and Lava's fault
 #      layer are preloaded so that they stay mapped and their frames symbolised,
@@ -21,10 +22,11 @@ cd "$(dirname "$0")/.."
 cmake -S . -B build-asan -DLAVA_SANITIZE=ON -DLAVA_BUILD_PYTHON=OFF \
       -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build build-asan -j2
-ctest --test-dir build-asan --output-on-failure -j2 \
-      -R '^(Random|Physics|Emission|StateIo|Compare|Integrators|Forces|Colliders|Denormals|SceneKeys|SceneToml|Spirv|Simd|Effects/SimdModules)\.'
+# The groups of the tests that load no Vulkan.
+novulkan='Random|Physics|Emission|StateIo|Compare|Integrators|Forces|Colliders|Denormals|SceneKeys|SceneToml|Spirv|Simd|Effects/SimdModules|FlowKeys|FlowState|FlowPhysics'
+ctest --test-dir build-asan --output-on-failure -j2 -R "^($novulkan)\\."
 ASAN_OPTIONS=detect_leaks=0 ctest --test-dir build-asan --output-on-failure -j2 -LE program \
-      -E '^(Drivers\.|GpuTest\.SoakOfAMillionSteps)'
+      -E "^(Drivers|$novulkan)\\.|^GpuTest\\.SoakOfAMillionSteps"
 icd=$(sed -n 's/.*"library_path": *"\([^"]*\)".*/\1/p' \
       "${LAVA_LAVAPIPE_ICD:-/usr/share/vulkan/icd.d/lvp_icd.x86_64.json}")
 echo "sanitize: the program's tests with leak checking (preloaded: $icd, the fault layer)"

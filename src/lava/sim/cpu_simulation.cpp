@@ -59,7 +59,7 @@ void CpuSimulation::advance(uint64_t steps) {
   const float h = scene_.h();
   const detail::Reference reference(scene_);
   std::optional<detail::FlowStepper> flow;
-  if (scene_.flows()) flow.emplace(reference);
+  if (scene_.flows()) flow.emplace(reference, threads_);
   std::vector<std::vector<detail::Births>> schedule(scene_.emitters.size());
   while (steps > 0) {
     const uint64_t batch = std::min(steps, kScheduleBatch);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <thread>
 
 #include "constants.h"
 #include "model-inl.h"
@@ -149,8 +150,11 @@ float flowViscosity(const FlowConstants& k, float t) {
   return k.table[i] + f * (k.table[i + 1] - k.table[i]);
 }
 
-FlowStepper::FlowStepper(const Reference& reference)
-    : reference_(reference), contact_(reference.scene()), k_(flowConstants(reference.scene())) {
+FlowStepper::FlowStepper(const Reference& reference, unsigned threads)
+    : reference_(reference),
+      contact_(reference.scene()),
+      k_(flowConstants(reference.scene())),
+      threads_(std::max(threads, 1u)) {
   const Scene& s = reference.scene();
   contact_.restitution = s.flow->restitution;
   for (Collider& c : contact_.colliders) c.restitution = s.flow->restitution;
@@ -216,6 +220,24 @@ void FlowStepper::neighbours(const State& state, size_t i, const Visit& visit) c
       }
 }
 
+// body(e) for e in [0, n), over the stepper's threads: each e writes only its own results,
+// so the threads change no bit.
+template <class Body>
+void FlowStepper::parallel(size_t n, const Body& body) const {
+  const size_t threads = n < 2048 ? 1 : threads_;
+  if (threads == 1) {
+    for (size_t e = 0; e < n; ++e) body(e);
+    return;
+  }
+  std::vector<std::thread> workers;
+  for (size_t t = 1; t < threads; ++t)
+    workers.emplace_back([&, t] {
+      for (size_t e = n * t / threads; e < n * (t + 1) / threads; ++e) body(e);
+    });
+  for (size_t e = 0; e < n / threads; ++e) body(e);
+  for (std::thread& w : workers) w.join();
+}
+
 void FlowStepper::step(State& state) {
   sort(state);
   const Scene& s = reference_.scene();
@@ -227,7 +249,8 @@ void FlowStepper::step(State& state) {
   for (uint32_t i : sorted_) viscosity_[i] = flowViscosity(k_, temperature[i]);
   // Pass 1: the density ratio theta, the exchange rates of viscosity and conduction, and
   // whether a solid particle touches crust.
-  for (uint32_t i : sorted_) {
+  parallel(sorted_.size(), [&](size_t e) {
+    const uint32_t i = sorted_[e];
     float theta = 0.0f, viscous = 0.0f, conductive = 0.0f;
     bool touches = false;
     const float nu = viscosity_[i];
@@ -248,11 +271,11 @@ void FlowStepper::step(State& state) {
     viscous_[i] = stable(viscous);
     conductive_[i] = stable(k_.conduction * conductive);
     touches_[i] = touches;
-  }
+  });
 
   // Pass 2 and the step: every particle reads the start-of-step state of the others.
   next_.resize(sorted_.size());
-  for (size_t e = 0; e < sorted_.size(); ++e) {
+  parallel(sorted_.size(), [&](size_t e) {
     const uint32_t i = sorted_[e];
     const size_t emitter = emitterOfSlot_[i];
     const Particle& p = particles[i];
@@ -314,7 +337,7 @@ void FlowStepper::step(State& state) {
       becomesCrust = false;
     }
     next_[e] = {{x.x, x.y, x.z, age, v.x, v.y, v.z, p.mass}, t1, uint8_t(becomesCrust ? 1 : 0)};
-  }
+  });
   for (size_t e = 0; e < sorted_.size(); ++e) {
     const uint32_t i = sorted_[e];
     particles[i] = next_[e].particle;

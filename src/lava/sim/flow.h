@@ -62,10 +62,11 @@ uint32_t flowBuckets(uint64_t slots);
 float flowViscosity(const FlowConstants& k, float temperature);
 
 // One step of every flow emitter's particles, after the step's births (which set their
-// temperature and crust flag with flowBirth). Keeps its grid between steps.
+// temperature and crust flag with birthTemperature()), over `threads` threads (the same
+// bits for any count). Keeps its grid between steps.
 class FlowStepper {
  public:
-  explicit FlowStepper(const Reference& reference);
+  FlowStepper(const Reference& reference, unsigned threads);
   void step(State& state);
   // A flow particle's temperature and crust flag at birth, in emitter `emitter`.
   float birthTemperature(size_t emitter) const { return weights_[emitter].birth; }
@@ -74,10 +75,13 @@ class FlowStepper {
   void sort(const State& state);
   template <class Visit>
   void neighbours(const State& state, size_t i, const Visit& visit) const;
+  template <class Body>
+  void parallel(size_t n, const Body& body) const;
 
   const Reference& reference_;
   Scene contact_;  // the scene with the flow's restitution on the ground and every collider
   FlowConstants k_;
+  unsigned threads_;
   std::vector<FlowWeights> weights_;
   std::vector<uint32_t> emitterOfSlot_;  // kNotFlow for slots of other emitters
   uint32_t buckets_ = 0;
