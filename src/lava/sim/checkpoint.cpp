@@ -393,9 +393,11 @@ Snapshot parseCheckpoint(const std::string& bytes, const std::string& name) {
     s.state.clocks[k].head = c.get<uint32_t>(20 * k + 16);
   }
   s.state.particles.resize(slots);
-  std::memcpy(s.state.particles.data(), particles.data(), particles.size());
+  if (!particles.empty())
+    std::memcpy(s.state.particles.data(), particles.data(), particles.size());
   s.state.temperature.resize(temperature.size() / 4);
-  std::memcpy(s.state.temperature.data(), temperature.data(), temperature.size());
+  if (!temperature.empty())
+    std::memcpy(s.state.temperature.data(), temperature.data(), temperature.size());
   s.state.crust.assign(crust.begin(), crust.end());
   uint64_t stored = 0;
   std::memcpy(&stored, hash.data(), 8);
