@@ -380,6 +380,7 @@ Snapshot parseCheckpoint(const std::string& bytes, const std::string& name) {
   Snapshot s;
   try {
     s.scene = parseScene(sceneText, name + " (its scene)");
+    checkScene(s.scene);  // how its keys bound each other, too
   } catch (const InvalidArgument& e) {
     r.fail(std::string("its scene does not load: ") + e.what());
   }
