@@ -166,12 +166,6 @@ py::array_t<float> columns(const lava::State& state) {
   return out;
 }
 
-// The backend asked for, or the default: the GPU, and the CPU reference for a scene with
-// flow emitters (the GPU backend does not run the flow yet).
-std::string backendFor(const std::optional<std::string>& backend, const lava::Scene& scene) {
-  return backend ? *backend : scene.flows() ? "cpu" : "gpu";
-}
-
 std::unique_ptr<lava::Simulation> make(const std::string& backend, const Options& o) {
   if (backend == "gpu") return std::make_unique<lava::GpuSimulation>(device(o.device), o.scene);
   if (backend == "cpu") return std::make_unique<lava::CpuSimulation>(o.scene, o.threads);
@@ -208,15 +202,10 @@ uint64_t stepOf(lava::Simulation& sim) {
 // A running simulation for scripts: advance it, look at it, save and resume it.
 class Simulation {
  public:
-  Simulation(const py::object& scene, const std::optional<std::string>& backend,
-             const py::kwargs& params)
-      : options_(options(scene, params)),
-        backend_(backendFor(backend, options_.scene)),
-        sim_(make(backend_, options_)) {}
-  Simulation(Options o, const std::optional<std::string>& backend)
-      : options_(std::move(o)),
-        backend_(backendFor(backend, options_.scene)),
-        sim_(make(backend_, options_)) {}
+  Simulation(const py::object& scene, const std::string& backend, const py::kwargs& params)
+      : options_(options(scene, params)), backend_(backend), sim_(make(backend, options_)) {}
+  Simulation(Options o, const std::string& backend)
+      : options_(std::move(o)), backend_(backend), sim_(make(backend, options_)) {}
 
   void advance(uint64_t steps) {
     advanceInterruptibly(*sim_, steps);
@@ -454,10 +443,9 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
 
   m.def(
       "simulate",
-      [](uint64_t steps, const std::optional<std::string>& asked, const py::object& scene,
+      [](uint64_t steps, const std::string& backend, const py::object& scene,
          const py::kwargs& params) {
         const Options o = options(scene, params);
-        const std::string backend = backendFor(asked, o.scene);
         std::unique_ptr<lava::Simulation> sim = make(backend, o);
         advanceInterruptibly(*sim, steps);
         lava::State state;
@@ -468,11 +456,9 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
         if (backend == "gpu") raiseOnValidation(device(o.device));
         return columns(state);
       },
-      py::arg("steps"), py::arg("backend") = py::none(), py::arg("scene") = py::none(),
-      "Runs the scene for `steps` steps on the GPU (backend='gpu', the default), the CPU\n"
-      "reference ('cpu') or its SIMD twin ('cpu-simd', the same bytes) and returns the final\n"
-      "state (a scene with flow emitters runs on 'cpu' by default: the GPU does not run the\n"
-      "flow yet):\n"
+      py::arg("steps"), py::arg("backend") = "gpu", py::arg("scene") = py::none(),
+      "Runs the scene for `steps` steps on the GPU (backend='gpu'), the CPU reference\n"
+      "('cpu') or its SIMD twin ('cpu-simd', the same bytes) and returns the final state:\n"
       "float32, shape (particles, 7), columns px py pz vx vy vz age (age -1: not alive),\n"
       "and an 8th, temperature (K), for a scene with a [flow] table.\n"
       "`scene`: a lava.Scene or a TOML scene file; keywords are the command line's flags\n"
@@ -588,14 +574,13 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
 
   py::class_<Simulation>(m, "Simulation",
                          "A simulation to advance step by step: Simulation(scene=None,\n"
-                         "backend=None, **keys), `scene` a lava.Scene or a TOML path, the\n"
-                         "backend and keywords those of simulate().")
-      .def(py::init<const py::object&, const std::optional<std::string>&, const py::kwargs&>(),
-           py::arg("scene") = py::none(), py::arg("backend") = py::none())
+                         "backend='gpu', **keys), `scene` a lava.Scene or a TOML path, the\n"
+                         "keywords those of simulate().")
+      .def(py::init<const py::object&, const std::string&, const py::kwargs&>(),
+           py::arg("scene") = py::none(), py::arg("backend") = "gpu")
       .def_static(
           "resume",
-          [](const std::string& path, const std::optional<std::string>& backend,
-             const py::kwargs& params) {
+          [](const std::string& path, const std::string& backend, const py::kwargs& params) {
             for (const auto& [key, value] : params) {
               const std::string name = key.cast<std::string>();
               if (name != "device" && name != "threads")
@@ -609,7 +594,7 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
             sim->simulation().setState(snapshot.state);
             return sim;
           },
-          py::arg("path"), py::arg("backend") = py::none(),
+          py::arg("path"), py::arg("backend") = "gpu",
           "A simulation from a checkpoint file (checkpoint() or `lava simulate --checkpoint`),\n"
           "on any backend: it goes on bit for bit. Keywords: device, threads.")
       .def("advance", &Simulation::advance, py::arg("steps"),

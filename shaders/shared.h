@@ -13,6 +13,7 @@ namespace lava::gpu {
 using uint = std::uint32_t;
 using vec4 = glm::vec4;
 using uvec4 = glm::uvec4;
+using ivec4 = glm::ivec4;
 using mat4 = glm::mat4;
 #define LAVA_FN inline
 #define LAVA_PRECISE
@@ -73,6 +74,8 @@ const uint kColliderKindsConstant = 7u;
 // leave out the birth search and the emission, which a CPU device's SIMD lanes would run
 // masked for every particle of every dispatch, born or not.
 const uint kBirthsConstant = 8u;
+// Bit k set when emitter k is a flow emitter: step.comp leaves its particles to flow.comp.
+const uint kFlowEmittersConstant = 9u;
 
 const uint kMaxEmitters = 16u;
 const uint kMaxForces = 16u;
@@ -168,6 +171,67 @@ struct StepParams {
   uvec4 run;    // x first schedule entry, y steps, z entries per emitter in the schedule
   uvec4 chunk;  // x first particle (state index) of the bound chunk, y particles in it,
                // z the dispatch's first invocation (a multiple of kWorkgroupSize)
+};
+
+// flow.comp (docs/model.md, "The flow"): its bindings (the schedule and the scene as
+// step.comp's), its passes over each step, and what they read and write. The flow's slots are
+// numbered 0.. in state order (its emitters' rings one after another): the flow index.
+const uint kFlowParticleBinding = 0u;  // Particle per flow index: the flow's own copy
+const uint kFlowHeatBinding = 2u;      // FlowHeat per flow index
+const uint kFlowParamsBinding = 4u;    // FlowParams
+const uint kFlowNextBinding = 5u;      // FlowNext per flow index: the step's results
+const uint kFlowScratchBinding = 6u;   // FlowScratch per flow index
+const uint kFlowGridBinding = 7u;      // uint: counts[buckets], start[buckets + 1], sorted[slots]
+const uint kFlowBirths = 0u;   // per flow slot: the step's births; cell, bucket, count
+const uint kFlowScan = 1u;     // one workgroup: each bucket's start; counts to 0
+const uint kFlowScatter = 2u;  // per flow slot: into its bucket (in any order)
+const uint kFlowOrder = 3u;    // per bucket: its slots in order; its count to 0
+const uint kFlowDensity = 4u;  // per flow slot: the first neighbour pass
+const uint kFlowForces = 5u;   // per flow slot: the second neighbour pass and the step
+const uint kFlowStore = 6u;    // per flow slot: the results over the state
+const uint kFlowPasses = 7u;
+const uint kFlowUnsorted = 0xffffffffu;  // FlowScratch.cell.w of a slot not in the grid
+// Entries of the viscosity table, solidus to temperature.
+const uint kViscosityEntries = 64u;
+
+struct FlowHeat {
+  float temperature;  // K; 0 in unborn slots
+  uint crust;         // 1: crust
+};
+
+struct FlowNext {
+  vec4 posAge;
+  vec4 velMass;
+  vec4 heat;  // x temperature, y 1 for crust
+};
+
+struct FlowScratch {
+  ivec4 cell;   // xyz the cell, w its bucket (kFlowUnsorted: not in the grid)
+  vec4 rates;   // x pi = c^2 max(theta - 1, 0) / theta^2, y the viscous and z the conductive
+                // exchange's stability factors, w 1 when a solid particle touches crust
+};
+
+struct FlowEmitterParams {
+  vec4 weights;  // x density, y pressure (1/m), z laplacian (s/m^2), w birth temperature (K)
+  uvec4 slots;   // x the emitter, y its first flow index, z its first state slot, w capacity
+};
+
+// The flow's constants (flow.h's FlowConstants), one copy per frame slot.
+struct FlowParams {
+  vec4 kernel;  // x 1 / radius, y 1 / radius^2, z touch distance^2, w c^2 (m^2/s^2)
+  vec4 heat;    // x solidus, y temperature, z ambient (K), w the table's scale (1/K)
+  vec4 rates;   // x viscosity, y viscosity at the solidus (m^2/s), z h cooling-air,
+                // w h (cooling-air + cooling-ground)
+  vec4 contact; // x 2 conduction (m^2/s), y restitution
+  vec4 limits;  // x the pair cut, y the tiny term, z the coincident distance^2, w cell limit
+  uvec4 sizes;  // x buckets (a power of two), y flow slots, z flow emitters
+  vec4 table[kViscosityEntries / 4u];
+  FlowEmitterParams emitters[kMaxEmitters];
+};
+
+// Push constants of flow.comp.
+struct FlowStepParams {
+  uvec4 run;  // x the step's schedule entry, y the pass, z entries per emitter in the schedule
 };
 
 // The two looks (DrawParams.style.w, BackdropParams.eye.w).
@@ -288,6 +352,10 @@ static_assert(sizeof(EmitterParams) == 96 && sizeof(ForceParams) == 48 &&
               "scene parameters are whole vec4s (std140 array strides)");
 static_assert(sizeof(SceneParams) == 32 + 16 * (96 + 48 + 80), "SceneParams as std140 lays it out");
 static_assert(offsetof(SceneParams, forces) == 32 + 16 * 96, "SceneParams members stay vec4s");
+static_assert(sizeof(FlowHeat) == 8 && sizeof(FlowNext) == 48 && sizeof(FlowScratch) == 32,
+              "the flow's per-slot records match std430");
+static_assert(sizeof(FlowParams) == 96 + 16 * 16 + 32 * kMaxEmitters,
+              "FlowParams as std140 lays it out");
 static_assert(sizeof(StepParams) == 32, "StepParams fits any push-constant budget");
 static_assert(sizeof(DrawParams) == 96, "DrawParams must fit 128 bytes of push constants");
 static_assert(sizeof(GlowParams) == 128, "GlowParams must fit 128 bytes of push constants");

@@ -31,6 +31,7 @@ layout(constant_id = kLifetimesConstant) const uint kLifetimes = 0u;
 layout(constant_id = kForceKindsConstant) const uint kForceKinds = 0u;
 layout(constant_id = kColliderKindsConstant) const uint kColliderKinds = 0u;
 layout(constant_id = kBirthsConstant) const uint kBirths = 1u;
+layout(constant_id = kFlowEmittersConstant) const uint kFlowEmitters = 0u;
 
 layout(std430, binding = kParticleBinding) writeonly buffer Particles {
   Particle particles[];
@@ -44,15 +45,6 @@ layout(std140, binding = kSceneBinding) uniform Scene {
 };
 layout(push_constant) uniform Push {
   StepParams p;
-};
-
-// What every particle's steps need of the scene, read once per dispatch.
-struct World {
-  float h;            // step (s)
-  float drag;         // N s/m
-  float restitution;  // the ground's
-  float friction;
-  vec3 wind;          // N
 };
 
 // What a particle's steps need of its emitter, read once per dispatch.
@@ -69,181 +61,7 @@ Model model(uint k) {
   return Model(e.size.w, e.constants.x, e.constants.y, e.constants.z, e.spread.w);
 }
 
-// |v_i| < 2^-24 becomes +0: denormals never enter the state.
-void flush(inout precise vec3 v) {
-  v.x = abs(v.x) < kTinySpeed ? 0.0 : v.x;
-  v.y = abs(v.y) < kTinySpeed ? 0.0 : v.y;
-  v.z = abs(v.z) < kTinySpeed ? 0.0 : v.z;
-}
-
-// Emission: the particle of emitter k with this serial.
-void emit(uint k, uint lo, uint hi, out precise vec3 x, out precise vec3 v) {
-  const EmitterParams e = scene.emitters[k];
-  const uint seed = e.ring.y;
-  precise vec3 u = vec3(signedUnit(randomBits(seed, lo, hi, 0u)),
-                        signedUnit(randomBits(seed, lo, hi, 1u)),
-                        signedUnit(randomBits(seed, lo, hi, 2u)));
-  precise vec3 o = vec3(0.0);
-  const uint shape = e.ring.x;
-  precise float r = e.position.w;
-  if (shape == kShapeDisc) {
-    precise float a = 0.0, b = 0.0;
-    for (uint t = 0u; t < kDiscTries; ++t) {
-      precise float ta = signedUnit(randomBits(seed, lo, hi, kVelocityComponents + 2u * t));
-      precise float tb = signedUnit(randomBits(seed, lo, hi, kVelocityComponents + 1u + 2u * t));
-      precise float r2 = ta * ta + tb * tb;
-      if (r2 <= 1.0) {
-        a = ta;
-        b = tb;
-        break;
-      }
-    }
-    o = vec3(r * a, 0.0, r * b);
-  } else if (shape == kShapeSphere) {
-    precise vec3 c = vec3(0.0);
-    for (uint t = 0u; t < kSphereTries; ++t) {
-      precise vec3 tc = vec3(signedUnit(randomBits(seed, lo, hi, kVelocityComponents + 3u * t)),
-                             signedUnit(randomBits(seed, lo, hi, kVelocityComponents + 1u + 3u * t)),
-                             signedUnit(randomBits(seed, lo, hi, kVelocityComponents + 2u + 3u * t)));
-      precise float r2 = (tc.x * tc.x + tc.y * tc.y) + tc.z * tc.z;
-      if (r2 <= 1.0) {
-        c = tc;
-        break;
-      }
-    }
-    o = r * c;
-  } else if (shape == kShapeBox) {
-    precise vec3 c = vec3(signedUnit(randomBits(seed, lo, hi, kVelocityComponents)),
-                          signedUnit(randomBits(seed, lo, hi, kVelocityComponents + 1u)),
-                          signedUnit(randomBits(seed, lo, hi, kVelocityComponents + 2u)));
-    o = e.size.xyz * c;
-  }
-  x = e.position.xyz + o;
-  v = e.velocity.xyz + e.spread.xyz * u;
-  flush(v);
-}
-
-// F(x, v): wind and gravity (w = wind.y - m g, from the host), drag, then the forces.
-void force(const World g, precise vec3 x, precise vec3 v, float w, out precise vec3 f) {
-  f = vec3(g.wind.x, w, g.wind.z) - g.drag * v;
-  [[unroll]] for (uint i = 0u; i < kForces; ++i) {
-    const ForceParams F = scene.forces[i];
-    precise float k = F.position.w;
-    if (((kForceKinds >> i) & 1u) == kAttractor) {
-      precise vec3 d = F.position.xyz - x;
-      precise float dd = (d.x * d.x + d.y * d.y) + d.z * d.z;
-      if (F.kind.y != 0u || dd <= F.axis.w) f = f + k * d;
-    } else {
-      precise vec3 d = x - F.position.xyz;
-      const vec3 a = F.axis.xyz;
-      precise vec3 c = vec3(a.y * d.z - a.z * d.y, a.z * d.x - a.x * d.z, a.x * d.y - a.y * d.x);
-      f = f + k * c;
-    }
-  }
-}
-
-// R(n, ε, α) for a projected particle: restitution on the normal speed, retention (and
-// static friction) on the tangential velocity.
-void respond(inout precise vec3 v, precise vec3 n, float restitution, float friction) {
-  precise float vn = (v.x * n.x + v.y * n.y) + v.z * n.z;
-  if (vn < 0.0) {
-    precise vec3 t = v - vn * n;
-    precise vec3 kept = friction * t;
-    if (abs(kept.x) < kRestSpeed) kept.x = 0.0;
-    if (abs(kept.y) < kRestSpeed) kept.y = 0.0;
-    if (abs(kept.z) < kRestSpeed) kept.z = 0.0;
-    precise float e = -(restitution * vn);
-    v = kept + e * n;
-  }
-}
-
-// 1/sqrt(q) for q > 0 from the bit pattern and three Newton steps: only adds and
-// multiplies, so every conforming driver computes the same bits.
-float inverseRoot(precise float q) {
-  precise float y = uintBitsToFloat(kRsqrtMagic - (floatBitsToUint(q) >> 1u));
-  precise float halfQ = 0.5 * q;
-  y = y * (1.5 - (halfQ * y) * y);
-  y = y * (1.5 - (halfQ * y) * y);
-  y = y * (1.5 - (halfQ * y) * y);
-  return y;
-}
-
-// The solid truncated cone (README "The crater"): pushed out through its top or its side,
-// whichever is nearer, a margin beyond the surface.
-void cone(const ColliderParams c, inout precise vec3 x, inout precise vec3 v) {
-  precise vec3 d = x - c.position.xyz;
-  const float height = c.shape.z;
-  if (d.y >= 0.0 && d.y < height) {
-    precise float ry = c.shape.x + c.shape.y * d.y;
-    precise float q = d.x * d.x + d.z * d.z;
-    precise float rr = ry * ry;
-    if (q < rr) {
-      precise float rx = 1.0, rz = 0.0, rho = 0.0;
-      if (q >= kAxisSquared) {
-        precise float inv = inverseRoot(q);
-        rx = d.x * inv;
-        rz = d.z * inv;
-        rho = q * inv;
-      }
-      precise float side = (ry - rho) * c.cone.x;
-      precise float up = height - d.y;
-      precise vec3 n;
-      if (up <= side) {
-        x.y = c.cone.z;
-        n = vec3(0.0, 1.0, 0.0);
-      } else {
-        n = vec3(c.cone.x * rx, c.cone.y, c.cone.x * rz);
-        precise float move = side + c.cone.w;
-        x = x + move * n;
-      }
-      respond(v, n, c.material.x, c.material.y);
-      flush(v);
-    }
-  }
-}
-
-void collide(const ColliderParams c, uint type, inout precise vec3 x, inout precise vec3 v) {
-  if (type == kPlane) {
-    precise vec3 n = c.shape.xyz;
-    precise vec3 r = x - c.position.xyz;
-    precise float dist = (r.x * n.x + r.y * n.y) + r.z * n.z;
-    if (dist < 0.0) {
-      x = x - dist * n;
-      respond(v, n, c.material.x, c.material.y);
-      flush(v);
-    }
-  } else if (type == kSphere) {
-    precise vec3 d = x - c.position.xyz;
-    precise float q = (d.x * d.x + d.y * d.y) + d.z * d.z;
-    if (q < c.shape.y) {
-      precise vec3 n = vec3(0.0, 1.0, 0.0);
-      if (q != 0.0) {
-        precise float s = sqrt(q);  // the model's one square root and division
-        n = vec3(d.x / s, d.y / s, d.z / s);
-      }
-      x = c.position.xyz + c.shape.x * n;
-      respond(v, n, c.material.x, c.material.y);
-      flush(v);
-    }
-  } else if (type == kBox) {
-    precise vec3 d = x - c.position.xyz;
-    const vec3 e = c.shape.xyz;
-    if (abs(d.x) < e.x && abs(d.y) < e.y && abs(d.z) < e.z) {
-      precise vec3 gap = e - abs(d);
-      uint j = 0u;
-      if (gap.y < gap.x) j = 1u;
-      if (gap.z < (j == 0u ? gap.x : gap.y)) j = 2u;
-      precise float sigma = d[j] >= 0.0 ? 1.0 : -1.0;
-      x[j] = c.position[j] + sigma * e[j];
-      precise vec3 n = vec3(0.0);
-      n[j] = sigma;
-      respond(v, n, c.material.x, c.material.y);
-      flush(v);
-    }
-  } else {
-    cone(c, x, v);
-  }
-}
+#include "model.glsl"
 
 // One step of an alive particle (after any birth).
 void step(const World g, const Model e, inout precise vec3 x, inout precise vec3 v,
@@ -271,18 +89,7 @@ void step(const World g, const Model e, inout precise vec3 x, inout precise vec3
   }
   flush(v);
   age = age + h;
-  // The ground: restitution on y, retention and static friction on x and z.
-  if (x.y < 0.0) {
-    x.y = 0.0;
-    if (v.y < 0.0) {
-      v.x = g.friction * v.x;
-      v.z = g.friction * v.z;
-      v.y = -(g.restitution * v.y);
-      if (abs(v.x) < kRestSpeed) v.x = 0.0;
-      if (abs(v.z) < kRestSpeed) v.z = 0.0;
-      flush(v);
-    }
-  }
+  ground(g.restitution, g.friction, x, v);
   [[unroll]] for (uint i = 0u; i < kColliders; ++i)  // each slot's kind then a constant
     collide(scene.colliders[i], (kColliderKinds >> (2u * i)) & 3u, x, v);
   if (kLifetimes != 0u && e.lifetime > 0.0 && age >= e.lifetime) age = -1.0;
@@ -320,8 +127,10 @@ State load(uint local) {
   uint k = 0u;
   for (uint i = 1u; i < kEmitters; ++i)
     if (slot >= scene.emitters[i].ring.w) k = i;
-  const uint capacity = scene.emitters[k].ring.z;
   const uint steps = p.run.y;
+  if (((kFlowEmitters >> k) & 1u) != 0u)  // flow.comp steps it: not stepped, not stored
+    return State(vec3(0.0), vec3(0.0), -1.0, 0.0, k, steps);
+  const uint capacity = scene.emitters[k].ring.z;
   const uint firstEntry = k * p.run.z + p.run.x;
   // Read through the texel view: each invocation reads its particles before it writes them,
   // and other invocations touch other particles.

@@ -248,10 +248,10 @@ TEST_P(Modules, AreBitIdenticalToTheCpuReference) {
   for (int checkpoint = 0; checkpoint < 3; ++checkpoint) {
     gpu.advance(1000);
     cpu.advance(1000);
-    const Comparison c = compare(s, gpu.state().particles, cpu.state().particles);
+    const Comparison c = compare(s, gpu.state(), cpu.state());  // a flow's heat too
     ASSERT_EQ(c.equal, c.particles)
         << GetParam() << ": first difference at slot " << (c.first ? c.first->particle : 0)
-        << ", max ULP " << c.maxUlp;
+        << " (" << (c.first ? fieldName(c.first->field) : "") << "), max ULP " << c.maxUlp;
     EXPECT_GT(c.alive, 1000u);
   }
 }
@@ -285,6 +285,11 @@ TEST_P(Modules, ResumeFromACheckpointBitForBit) {
       EXPECT_EQ(std::memcmp(got.particles.data(), expected.particles.data(),
                             got.particles.size() * sizeof(Particle)),
                 0);
+      ASSERT_EQ(got.temperature.size(), expected.temperature.size());  // a flow's heat
+      EXPECT_EQ(std::memcmp(got.temperature.data(), expected.temperature.data(),
+                            got.temperature.size() * sizeof(float)),
+                0);
+      EXPECT_EQ(got.crust, expected.crust);
       EXPECT_EQ(got.step, expected.step);
       for (size_t k = 0; k < got.clocks.size(); ++k) {
         EXPECT_EQ(got.clocks[k].serial, expected.clocks[k].serial);

@@ -80,10 +80,12 @@ Module parse(const std::string& stem) {
   return m;
 }
 
-const char* kVariants[] = {"step_comp", "step_signed_zero", "step_rte", "step_plain",
-                            "step_kernel_only"};  // the compute ceiling: the same arithmetic
+const char* kVariants[] = {"step_comp",        "step_signed_zero", "step_rte",
+                            "step_plain",       "step_kernel_only",  // the ceiling: the same
+                            "flow_comp",        "flow_signed_zero", "flow_rte",
+                            "flow_plain"};  // the flow's passes, with the step's operations
 
-TEST(Spirv, EveryFloatOperationOfTheStepIsNoContraction) {
+TEST(Spirv, EveryFloatOperationOfTheStepAndTheFlowIsNoContraction) {
   for (const char* variant : kVariants) {
     const Module m = parse(variant);
     ASSERT_GT(m.arithmetic.size(), 100u) << variant << ": the step's arithmetic was not found";
@@ -133,7 +135,11 @@ TEST(Spirv, FloatControlsAreDeclaredPerVariant) {
       {"step_comp", {true, true}},
       {"step_signed_zero", {true, false}},
       {"step_rte", {false, true}},
-      {"step_plain", {false, false}}};
+      {"step_plain", {false, false}},
+      {"flow_comp", {true, true}},
+      {"flow_signed_zero", {true, false}},
+      {"flow_rte", {false, true}},
+      {"flow_plain", {false, false}}};
   for (const auto& [variant, modes] : expected) {
     const Module m = parse(variant);
     EXPECT_EQ(m.executionModes.count(zero), modes.first ? 1u : 0u) << variant;

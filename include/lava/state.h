@@ -47,6 +47,9 @@ LAVA_API void checkState(const Scene& scene, const State& state);
 // A 64-bit FNV-1a-style hash of the particles' bytes: equal states, equal hashes, on any
 // machine (Lava's own offset basis; see sim/state.cpp).
 LAVA_API uint64_t stateHash(const std::vector<Particle>& particles);
+// The particles' hash, continued over each slot's temperature and crust flag when the state
+// has them (a scene with a flow): a state without a flow hashes as its particles.
+LAVA_API uint64_t stateHash(const State& state);
 
 // Which emitter slot `slot` belongs to.
 LAVA_API size_t emitterOf(const Scene& scene, uint64_t slot);

@@ -21,7 +21,7 @@ LAVA_API uint32_t ulpDistance(float a, float b);
 struct Difference {
   uint64_t particle = 0;  // slot index in the state
   uint32_t emitter = 0;   // the emitter that slot belongs to (when a scene was given)
-  uint32_t field = 0;     // 0..7: px py pz age vx vy vz mass
+  uint32_t field = 0;     // 0..9: px py pz age vx vy vz mass, then a flow's temperature crust
   uint32_t subjectBits = 0;
   uint32_t referenceBits = 0;
 };
@@ -29,7 +29,8 @@ LAVA_API const char* fieldName(uint32_t field);
 
 struct Comparison {
   uint64_t particles = 0;           // slots compared
-  uint64_t equal = 0;               // slots bitwise identical (all 8 floats)
+  uint64_t equal = 0;               // slots bitwise identical (all 8 floats, and a flow's
+                                    // temperature and crust flag)
   uint64_t alive = 0;               // slots alive in the reference
   float maxDx = 0.0f;               // largest |difference| of a position component (m)
   float maxDv = 0.0f;               // largest |difference| of a velocity component (m/s)
@@ -42,11 +43,14 @@ LAVA_API Comparison compare(const std::vector<Particle>& subject,
 // The same, naming each difference's emitter.
 LAVA_API Comparison compare(const Scene& scene, const std::vector<Particle>& subject,
                             const std::vector<Particle>& reference);
+// Whole states: the particles, and for a scene with a flow each slot's temperature and crust
+// flag too.
+LAVA_API Comparison compare(const Scene& scene, const State& subject, const State& reference);
 
 struct Checkpoint {
   uint64_t step;  // steps since the run began
   Comparison comparison;
-  uint64_t subjectHash = 0;    // stateHash() of each side's particles
+  uint64_t subjectHash = 0;    // stateHash() of each side's state
   uint64_t referenceHash = 0;
 };
 

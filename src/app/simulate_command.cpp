@@ -40,14 +40,13 @@ class SimulateCommand final : public Command {
         true);
     options_.add("backend",
                  "gpu (the Vulkan device), cpu (the reference) or cpu-simd (its SIMD twin, "
-                 "the same bytes) [gpu; cpu for a scene with flow emitters]",
+                 "the same bytes) [gpu]",
                  [this](const std::string& src, const std::string& t) {
                    if (t != "gpu" && t != "cpu" && t != "cpu-simd")
                      throw UsageError(src + ": expected gpu, cpu or cpu-simd, got '" + t +
                                             "'");
                    gpu_ = t == "gpu";
                    kernel_ = t == "cpu-simd" ? CpuKernel::Simd : CpuKernel::Reference;
-                   backendGiven_ = true;
                  });
     options_.add("threads", "CPU backend threads, 0 = all cores, 0..1024 [0]",
                  [this](const std::string& src, const std::string& t) {
@@ -83,9 +82,6 @@ class SimulateCommand final : public Command {
     if (every_ && checkpoint_.empty())
       throw UsageError("--checkpoint-every: needs --checkpoint FILE.npz");
     if (resumed) checkResumedScene(scene_, resumed->scene);
-    // The GPU backend does not run the flow yet: by default such a scene runs on the CPU
-    // reference (the summary names the backend); --backend gpu refuses it by name.
-    if (!backendGiven_ && scene_.flows()) gpu_ = false;
     std::unique_ptr<Device> device;
     std::unique_ptr<Simulation> simulation;
     if (gpu_) {
@@ -159,7 +155,7 @@ class SimulateCommand final : public Command {
         formatSeconds(std::chrono::duration<double>(start - begun).count()).c_str(),
         static_cast<unsigned long long>(alive),
         static_cast<unsigned long long>(below),
-        static_cast<unsigned long long>(stateHash(state.particles)), out_.empty() ? "" : ", wrote ",
+        static_cast<unsigned long long>(stateHash(state)), out_.empty() ? "" : ", wrote ",
         out_.c_str());
     if (!checkpoint_.empty())
       std::printf("simulate: checkpoint at step %llu in %s\n",
@@ -184,7 +180,6 @@ class SimulateCommand final : public Command {
   std::optional<unsigned> device_;
   uint64_t steps_ = 0;
   bool gpu_ = true;
-  bool backendGiven_ = false;
   CpuKernel kernel_ = CpuKernel::Reference;
   unsigned threads_ = 0;
   std::string out_;

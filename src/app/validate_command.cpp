@@ -208,7 +208,7 @@ class ValidateCommand final : public Command {
         const uint64_t batch = std::min(every, c.steps - done);
         gpu.advance(batch);
         done += batch;
-        const uint64_t hash = stateHash(gpu.state().particles);
+        const uint64_t hash = stateHash(gpu.state());
         r.hashes.emplace_back(done, hash);
         const auto expected = found->second.find(done);
         if (expected == found->second.end()) {

@@ -34,8 +34,9 @@ uint32_t ulpDistance(float a, float b) {
 }
 
 const char* fieldName(uint32_t field) {
-  static const char* names[] = {"px", "py", "pz", "age", "vx", "vy", "vz", "mass"};
-  return field < 8 ? names[field] : "?";
+  static const char* names[] = {"px",   "py",   "pz",   "age",         "vx",
+                                "vy",   "vz",   "mass", "temperature", "crust"};
+  return field < 10 ? names[field] : "?";
 }
 
 Comparison compare(const std::vector<Particle>& a, const std::vector<Particle>& b) {
@@ -64,6 +65,25 @@ Comparison compare(const std::vector<Particle>& a, const std::vector<Particle>& 
 Comparison compare(const Scene& scene, const std::vector<Particle>& a,
                    const std::vector<Particle>& b) {
   Comparison c = compare(a, b);
+  if (c.first) c.first->emitter = static_cast<uint32_t>(emitterOf(scene, c.first->particle));
+  return c;
+}
+
+Comparison compare(const Scene& scene, const State& a, const State& b) {
+  Comparison c = compare(a.particles, b.particles);
+  const size_t n = std::min({size_t(c.particles), a.temperature.size(), b.temperature.size(),
+                             a.crust.size(), b.crust.size()});
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t ulp = ulpDistance(a.temperature[i], b.temperature[i]);
+    const bool crust = a.crust[i] != b.crust[i];
+    if (ulp == 0 && !crust) continue;
+    c.maxUlp = std::max(c.maxUlp, ulp);
+    if (std::memcmp(&a.particles[i], &b.particles[i], sizeof(Particle)) != 0) continue;
+    --c.equal;  // the particle matched: its heat is the difference
+    if (!c.first || c.first->particle > i)
+      c.first = ulp ? Difference{i, 0, 8, bits(a.temperature[i]), bits(b.temperature[i])}
+                    : Difference{i, 0, 9, a.crust[i], b.crust[i]};
+  }
   if (c.first) c.first->emitter = static_cast<uint32_t>(emitterOf(scene, c.first->particle));
   return c;
 }

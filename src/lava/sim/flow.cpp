@@ -121,6 +121,41 @@ FlowWeights flowWeights(const Scene& scene, size_t emitter) {
           e.temperature == 0.0f ? f.temperature : e.temperature};
 }
 
+std::vector<FlowRange> flowRanges(const Scene& scene) {
+  std::vector<FlowRange> ranges;
+  uint64_t index = 0;
+  for (size_t e = 0; e < scene.emitters.size(); ++e) {
+    if (!scene.emitters[e].flow) continue;
+    ranges.push_back({scene.firstSlot(e), index, scene.emitters[e].particles});
+    index += scene.emitters[e].particles;
+  }
+  return ranges;
+}
+
+gpu::FlowParams flowParams(const Scene& scene) {
+  const FlowConstants k = flowConstants(scene);
+  gpu::FlowParams p{};
+  p.kernel = {k.invRadius, k.invRadius2, k.touch2, k.pressure};
+  p.heat = {k.solidus, k.temperature, k.ambient, k.tableScale};
+  p.rates = {k.viscosity, k.viscositySolidus, k.coolAir, k.coolContact};
+  p.contact = {k.conduction, scene.flow->restitution, 0.0f, 0.0f};
+  p.limits = {kPairCut, kTinyTerm, kCoincident, kCellLimit};
+  for (uint32_t i = 0; i < kViscosityEntries; ++i) p.table[i / 4][i % 4] = k.table[i];
+  uint32_t n = 0;
+  uint64_t slots = 0;
+  for (size_t e = 0; e < scene.emitters.size(); ++e) {
+    if (!scene.emitters[e].flow) continue;
+    const FlowWeights w = flowWeights(scene, e);
+    p.emitters[n].weights = {w.density, w.pressure, w.laplacian, w.birth};
+    p.emitters[n].slots = {uint32_t(e), uint32_t(slots), uint32_t(scene.firstSlot(e)),
+                           scene.emitters[e].particles};
+    slots += scene.emitters[e].particles;
+    ++n;
+  }
+  p.sizes = {flowBuckets(slots), uint32_t(slots), n, 0u};
+  return p;
+}
+
 Cell cellOf(float x, float y, float z, float invRadius) {
   auto axis = [invRadius](float p) {
     const float u = std::min(std::max(p * invRadius, -kCellLimit), kCellLimit - 1.0f);

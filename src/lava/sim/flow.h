@@ -8,13 +8,13 @@
 
 #include "lava/scene.h"
 #include "lava/state.h"
+#include "shared.h"
 
 namespace lava::detail {
 
 class Reference;
 
-// Entries of the viscosity table, solidus to temperature.
-constexpr uint32_t kViscosityEntries = 64;
+using gpu::kViscosityEntries;
 // A pair interacts when t = 1 - r^2/radius^2 exceeds this (the kernels' tails are cut where
 // their products could leave float32's normal range).
 constexpr float kPairCut = 1.0f / 4096.0f;
@@ -57,6 +57,18 @@ Cell cellOf(float x, float y, float z, float invRadius);
 uint32_t bucketOf(const Cell& cell, uint32_t buckets);
 // The grid's hash table size for `slots` flow slots.
 uint32_t flowBuckets(uint64_t slots);
+
+// What flow.comp reads of the scene's flow: the constants and weights above, and where each
+// flow emitter's slots lie in the state and in the flow's own numbering.
+gpu::FlowParams flowParams(const Scene& scene);
+
+// The flow index of each flow emitter's first slot: its emitters' slots one after another.
+struct FlowRange {
+  uint64_t firstSlot;   // in the state
+  uint64_t firstIndex;  // in the flow's numbering
+  uint64_t count;
+};
+std::vector<FlowRange> flowRanges(const Scene& scene);
 
 // The viscosity at temperature T (m^2/s): the table, interpolated; exact at both ends.
 float flowViscosity(const FlowConstants& k, float temperature);

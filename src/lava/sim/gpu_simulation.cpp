@@ -8,6 +8,7 @@
 #include <map>
 
 #include "emission.h"
+#include "flow.h"
 #include "lava/error.h"
 #include "lava/simulation.h"
 #include "scene_params.h"
@@ -59,6 +60,7 @@ struct ScheduleSlot {
   StepPipelines pipelines;                    // for the scene planned into it
   Buffer schedule;                            // the entries, host-written
   Buffer sceneParams;                         // the scene's parameters, host-written
+  Buffer flowParams;                          // the flow's, host-written (scenes with a flow)
   detail::DescriptorArena sets;               // without push descriptors
 };
 
@@ -96,6 +98,7 @@ std::vector<GroupRange> birthGroups(const ScheduleSlot& slot, const ParticleChun
     }
   };
   for (size_t k = 0; k < scene.emitters.size(); ++k) {
+    if (scene.emitters[k].flow) continue;  // born by flow.comp
     const uint64_t total = slot.births[k][to] - slot.births[k][from];
     if (total == 0) continue;
     const uint64_t capacity = scene.emitters[k].particles;
@@ -135,6 +138,88 @@ detail::Spirv stepShader(const detail::DeviceContext& c) {
   return LAVA_SPIRV(spirv::kStepPlainSpv);
 }
 
+detail::Spirv flowShader(const detail::DeviceContext& c) {
+  const bool signedZero = c.floatControls.shaderSignedZeroInfNanPreserveFloat32;
+  const bool rte = c.floatControls.shaderRoundingModeRTEFloat32;
+  if (signedZero && rte) return LAVA_SPIRV(spirv::kFlowCompSpv);
+  if (signedZero) return LAVA_SPIRV(spirv::kFlowSignedZeroSpv);
+  if (rte) return LAVA_SPIRV(spirv::kFlowRteSpv);
+  return LAVA_SPIRV(spirv::kFlowPlainSpv);
+}
+
+// The flow's own copy of its particles, their heat and its grid (flow.comp), for scenes with
+// flow emitters.
+struct FlowState {
+  FlowState(detail::DeviceContext& c, const Scene& scene)
+      : ranges(detail::flowRanges(scene)),
+        params(detail::flowParams(scene)),
+        slots(params.sizes.y),
+        buckets(params.sizes.x),
+        particles(c, VkDeviceSize{slots} * kParticleBytes,
+                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                      VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                  MemoryUse::Device),
+        heat(c, VkDeviceSize{slots} * sizeof(gpu::FlowHeat),
+             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                 VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+             MemoryUse::Device),
+        next(c, VkDeviceSize{slots} * sizeof(gpu::FlowNext), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+             MemoryUse::Device),
+        scratch(c, VkDeviceSize{slots} * sizeof(gpu::FlowScratch),
+                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Device),
+        grid(c, gridBytes(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+             MemoryUse::Device),
+        upload(c, VkDeviceSize{slots} * (kParticleBytes + sizeof(gpu::FlowHeat)),
+               VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload),
+        readback(c, VkDeviceSize{slots} * sizeof(gpu::FlowHeat), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                 MemoryUse::Readback) {
+    setLayout = detail::createSetLayout(
+        c,
+        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+         VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+        VK_SHADER_STAGE_COMPUTE_BIT);
+    layout = detail::createPipelineLayout(c, setLayout, VK_SHADER_STAGE_COMPUTE_BIT,
+                                          sizeof(gpu::FlowStepParams));
+  }
+  VkDeviceSize gridBytes() const {
+    return (2 * VkDeviceSize{buckets} + 1 + slots) * sizeof(uint32_t);
+  }
+  // Copies between the state's chunks and the flow's particles (toFlow: chunks to flow).
+  void copy(const detail::DeviceContext& c, VkCommandBuffer commands,
+            const std::vector<ParticleChunk>& chunks, bool toFlow) const {
+    std::vector<VkBufferCopy> regions;
+    for (const ParticleChunk& chunk : chunks) {
+      regions.clear();
+      for (const detail::FlowRange& r : ranges) {
+        const uint64_t first = std::max(r.firstSlot, chunk.first);
+        const uint64_t end = std::min(r.firstSlot + r.count, chunk.first + chunk.count);
+        if (first >= end) continue;
+        const VkDeviceSize inChunk = (first - chunk.first) * kParticleBytes;
+        const VkDeviceSize inFlow = (r.firstIndex + first - r.firstSlot) * kParticleBytes;
+        regions.push_back(toFlow ? VkBufferCopy{inChunk, inFlow, (end - first) * kParticleBytes}
+                                 : VkBufferCopy{inFlow, inChunk, (end - first) * kParticleBytes});
+      }
+      if (regions.empty()) continue;
+      if (toFlow)
+        c.vk.CmdCopyBuffer(commands, chunk.buffer, particles.get(), uint32_t(regions.size()),
+                           regions.data());
+      else
+        c.vk.CmdCopyBuffer(commands, particles.get(), chunk.buffer, uint32_t(regions.size()),
+                           regions.data());
+    }
+  }
+
+  std::vector<detail::FlowRange> ranges;
+  gpu::FlowParams params;  // the constructor's scene's: sizes and slots never change
+  uint32_t slots, buckets;
+  Buffer particles, heat, next, scratch, grid;
+  Buffer upload, readback;  // setState()'s particles then heat; state()'s heat
+  detail::UniqueDescriptorSetLayout setLayout;
+  detail::UniquePipelineLayout layout;
+};
+
 }  // namespace
 
 struct GpuSimulation::Impl {
@@ -152,6 +237,7 @@ struct GpuSimulation::Impl {
   detail::UniquePipelineLayout pipelineLayout;
   // One pipeline per set of modules a scene used (kept: a frame in flight may use it).
   std::map<detail::Constants, detail::UniquePipeline> pipelines;
+  std::unique_ptr<FlowState> flow;  // scenes with flow emitters
   std::vector<EmitterClock> clocks;
   uint64_t step = 0;
   bool initPending = true;  // the particles still hold whatever the allocation held
@@ -163,6 +249,9 @@ struct GpuSimulation::Impl {
   // Creates what is missing (`none` too unless onlyBirths: a run that never steps need not
   // compile it).
   StepPipelines pipelinesFor(const Scene& scene, bool onlyBirths = false);
+  VkPipeline flowPipeline(const Scene& scene);
+  // Records the flow's steps planned into `slot`, then its particles into the chunks.
+  void recordFlow(const Scene& scene, VkCommandBuffer commands, ScheduleSlot& slot);
   void plan(const Scene& scene, uint32_t slot, uint32_t steps);
   // Records the steps planned into `slot` and marks them recorded.
   void record(const Scene& scene, VkCommandBuffer commands, uint32_t slot);
@@ -196,6 +285,16 @@ void GpuSimulation::Impl::recordInit(VkCommandBuffer commands) {
       c.vk.CmdCopyBuffer(commands, source.buffer, chunk.buffer, uint32_t(regions.size()),
                          regions.data());
   }
+  if (flow) {  // the flow's copy unborn too, 0 K, no crust; the grid's counts 0
+    regions.clear();
+    const VkDeviceSize bytes = VkDeviceSize{flow->slots} * kParticleBytes;
+    for (VkDeviceSize at = 0; at < bytes; at += block)
+      regions.push_back({0, at, std::min(block, bytes - at)});
+    c.vk.CmdCopyBuffer(commands, source.buffer, flow->particles.get(), uint32_t(regions.size()),
+                       regions.data());
+    c.vk.CmdFillBuffer(commands, flow->heat.get(), 0, VK_WHOLE_SIZE, 0);
+    c.vk.CmdFillBuffer(commands, flow->grid.get(), 0, VK_WHOLE_SIZE, 0);
+  }
   // RAW: steps, draws and read-backs read the particles written here.
   detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
@@ -210,11 +309,6 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
     : Simulation(scene), impl_(std::make_unique<Impl>(device.context(), options)) {
   Impl& m = *impl_;
   detail::DeviceContext& c = m.c;
-  for (size_t k = 0; k < scene.emitters.size(); ++k)
-    if (scene.emitters[k].flow)
-      throw InvalidArgument("emitter[" + std::to_string(k) + "].flow",
-                            "the flow runs on the CPU backends only in this version: run it "
-                            "with the cpu or cpu-simd backend");
   if (options.maxStepsPerFrame < 1 || options.maxStepsPerFrame > 65536)
     throw InvalidArgument("maxStepsPerFrame",
                           "expected 1 to 65536, got " + std::to_string(options.maxStepsPerFrame));
@@ -261,6 +355,10 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
       VK_SHADER_STAGE_COMPUTE_BIT);
   m.pipelineLayout = detail::createPipelineLayout(c, m.setLayout, VK_SHADER_STAGE_COMPUTE_BIT,
                                                   sizeof(gpu::StepParams));
+  if (scene.flows()) {
+    m.flow = std::make_unique<FlowState>(c, scene);
+    m.flowPipeline(scene);
+  }
   m.pipelinesFor(scene, true);
   // The initial state: the clocks here; the particles' writes are recorded by the first
   // recording or blocking call (recordInit()).
@@ -294,6 +392,20 @@ uint64_t GpuSimulation::step() const {
 void GpuSimulation::setScene(const Scene& scene) {
   Simulation::setScene(scene);
   impl_->pipelinesFor(scene_);  // created now, not while recording
+  if (impl_->flow) impl_->flowPipeline(scene_);
+}
+
+VkPipeline GpuSimulation::Impl::flowPipeline(const Scene& scene) {
+  detail::Constants constants = detail::stepConstants(scene);
+  constants.resize(gpu::kFlowEmittersConstant + 1, 0u);
+  constants[gpu::kFlowEmittersConstant] = UINT32_MAX;  // the flow's key among step.comp's
+  auto it = pipelines.find(constants);
+  if (it == pipelines.end())
+    it = pipelines
+             .emplace(constants,
+                      detail::createComputePipeline(c, flow->layout, flowShader(c), constants))
+             .first;
+  return it->second;
 }
 
 StepPipelines GpuSimulation::Impl::pipelinesFor(const Scene& scene, bool onlyBirths) {
@@ -301,8 +413,10 @@ StepPipelines GpuSimulation::Impl::pipelinesFor(const Scene& scene, bool onlyBir
   for (uint32_t births : {1u, 0u}) {
     if (births == 0 && onlyBirths) break;
     detail::Constants constants = detail::stepConstants(scene);
-    constants.resize(gpu::kBirthsConstant + 1, 0u);
+    constants.resize(gpu::kFlowEmittersConstant + 1, 0u);
     constants[gpu::kBirthsConstant] = births;
+    for (size_t k = 0; k < scene.emitters.size(); ++k)
+      constants[gpu::kFlowEmittersConstant] |= scene.emitters[k].flow ? 1u << k : 0u;
     auto it = pipelines.find(constants);
     if (it == pipelines.end())
       it = pipelines
@@ -342,6 +456,14 @@ void GpuSimulation::Impl::plan(const Scene& scene, uint32_t index, uint32_t step
     before[steps] = births;
   }
   std::memcpy(slot.sceneParams.mapped(), &params, sizeof(params));
+  if (flow) {
+    if (!slot.flowParams.get())
+      slot.flowParams = Buffer(c, sizeof(gpu::FlowParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                               MemoryUse::Upload);
+    const gpu::FlowParams flowParams = detail::flowParams(scene);
+    std::memcpy(slot.flowParams.mapped(), &flowParams, sizeof(flowParams));
+    slot.flowParams.flush();
+  }
   slot.pipelines = pipelinesFor(scene);
   slot.planned = steps;
   step += steps;
@@ -423,7 +545,66 @@ void GpuSimulation::Impl::record(const Scene& scene, VkCommandBuffer commands, u
       dispatch(slot.pipelines.none, next, groups);
     }
   }
+  if (flow) recordFlow(scene, commands, slot);
   slot.planned = 0;
+}
+
+void GpuSimulation::Impl::recordFlow(const Scene& scene, VkCommandBuffer commands,
+                                     ScheduleSlot& slot) {
+  // RAW/WAR: an upload or an earlier pass wrote, or a copy into the chunks or a draw read,
+  // the flow's buffers.
+  const auto barrier = [&] {
+    detail::memoryBarrier(c, commands,
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+                              VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+                              VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                          VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  };
+  barrier();
+  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, flowPipeline(scene));
+  const FlowState& f = *flow;
+  detail::Descriptors()
+      .buffer(gpu::kFlowParticleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.particles.get())
+      .buffer(gpu::kScheduleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, slot.schedule.get())
+      .buffer(gpu::kFlowHeatBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.heat.get())
+      .buffer(gpu::kSceneBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, slot.sceneParams.get(), 0,
+              sizeof(gpu::SceneParams))
+      .buffer(gpu::kFlowParamsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, slot.flowParams.get(),
+              0, sizeof(gpu::FlowParams))
+      .buffer(gpu::kFlowNextBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.next.get())
+      .buffer(gpu::kFlowScratchBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.scratch.get())
+      .buffer(gpu::kFlowGridBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.grid.get())
+      .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, f.layout, f.setLayout, slot.sets);
+  const uint32_t perSlot = detail::groupCount(f.slots, gpu::kWorkgroupSize);
+  const uint32_t perBucket = detail::groupCount(f.buckets, gpu::kWorkgroupSize);
+  gpu::FlowStepParams params{};
+  params.run.z = slot.capacity;
+  for (uint32_t s = 0; s < slot.planned; ++s) {
+    params.run.x = s;
+    for (uint32_t pass = 0; pass < gpu::kFlowPasses; ++pass) {
+      if (s > 0 || pass > 0) barrier();
+      params.run.y = pass;
+      c.vk.CmdPushConstants(commands, f.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
+                            &params);
+      c.vk.CmdDispatch(commands,
+                       pass == gpu::kFlowScan ? 1 : pass == gpu::kFlowOrder ? perBucket : perSlot,
+                       1, 1);
+    }
+  }
+  // RAW, and WAW/WAR on the chunks: the copy reads the flow's last results and writes over
+  // what step.comp wrote and draws read.
+  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                        VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+  f.copy(c, commands, chunks, false);
+  // RAW: steps, draws and read-backs read the particles copied here.
+  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+                            VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                            VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
 }
 
 void GpuSimulation::update(uint32_t frame, uint32_t steps) {
@@ -496,6 +677,31 @@ void GpuSimulation::setState(const State& state) {
       m.c.vk.CmdCopyBuffer(commands, m.upload.get(), chunk.buffer, 1, &region);
     });
   }
+  if (m.flow) {  // the flow's copy: its particles and heat from the state; the grid's counts 0
+    FlowState& f = *m.flow;
+    auto* particles = static_cast<Particle*>(f.upload.mapped());
+    auto* heat = reinterpret_cast<gpu::FlowHeat*>(particles + f.slots);
+    for (const detail::FlowRange& r : f.ranges)
+      for (uint64_t i = 0; i < r.count; ++i) {
+        const uint64_t slot = r.firstSlot + i;
+        particles[r.firstIndex + i] = state.particles[slot];
+        heat[r.firstIndex + i] = {state.temperature[slot], uint32_t(state.crust[slot])};
+      }
+    f.upload.flush();
+    m.c.submitNow([&](VkCommandBuffer commands) {
+      // WAW/WAR: earlier passes wrote and read what is overwritten here.
+      detail::memoryBarrier(m.c, commands,
+                            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                            VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                            VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+      const VkDeviceSize particleBytes = VkDeviceSize{f.slots} * kParticleBytes;
+      const VkBufferCopy toParticles{0, 0, particleBytes};
+      const VkBufferCopy toHeat{particleBytes, 0, VkDeviceSize{f.slots} * sizeof(gpu::FlowHeat)};
+      m.c.vk.CmdCopyBuffer(commands, f.upload.get(), f.particles.get(), 1, &toParticles);
+      m.c.vk.CmdCopyBuffer(commands, f.upload.get(), f.heat.get(), 1, &toHeat);
+      m.c.vk.CmdFillBuffer(commands, f.grid.get(), 0, VK_WHOLE_SIZE, 0);
+    });
+  }
   m.clocks = state.clocks;
   m.step = state.step;
   m.initPending = false;  // every chunk was written
@@ -526,9 +732,31 @@ State GpuSimulation::state() {
   }
   out.clocks = m.clocks;
   out.step = m.step;
-  if (scene_.flow) {  // a flow without flow emitters: every slot 0 K, none crust
+  if (scene_.flow) {  // slots of other emitters (or a flow without emitters): 0 K, no crust
     out.temperature.assign(out.particles.size(), 0.0f);
     out.crust.assign(out.particles.size(), 0);
+  }
+  if (m.flow) {
+    FlowState& f = *m.flow;
+    m.c.submitNow([&](VkCommandBuffer commands) {
+      // RAW: flow.comp wrote the heat this copy reads; the host reads what it writes.
+      detail::memoryBarrier(m.c, commands,
+                            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                            VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                            VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+      const VkBufferCopy region{0, 0, VkDeviceSize{f.slots} * sizeof(gpu::FlowHeat)};
+      m.c.vk.CmdCopyBuffer(commands, f.heat.get(), f.readback.get(), 1, &region);
+      detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                            VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                            VK_ACCESS_HOST_READ_BIT);
+    });
+    f.readback.invalidate();
+    const auto* heat = static_cast<const gpu::FlowHeat*>(f.readback.mapped());
+    for (const detail::FlowRange& r : f.ranges)
+      for (uint64_t i = 0; i < r.count; ++i) {
+        out.temperature[r.firstSlot + i] = heat[r.firstIndex + i].temperature;
+        out.crust[r.firstSlot + i] = uint8_t(heat[r.firstIndex + i].crust);
+      }
   }
   return out;
 }

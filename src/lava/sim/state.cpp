@@ -48,4 +48,12 @@ uint64_t stateHash(const std::vector<Particle>& particles) {
                        particles.size() * sizeof(Particle));
 }
 
+uint64_t stateHash(const State& state) {
+  uint64_t hash = stateHash(state.particles);
+  if (!state.temperature.empty())
+    hash = common::fnv1a(hash, state.temperature.data(), state.temperature.size() * sizeof(float));
+  if (!state.crust.empty()) hash = common::fnv1a(hash, state.crust.data(), state.crust.size());
+  return hash;
+}
+
 }  // namespace lava

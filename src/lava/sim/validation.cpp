@@ -19,8 +19,7 @@ std::pair<uint64_t, std::optional<Difference>> replay(Simulation& subject, Simul
   for (uint64_t step = agreed.step + 1; step <= limit; ++step) {
     subject.advance(1);
     reference.advance(1);
-    const Comparison c =
-        compare(reference.scene(), subject.state().particles, reference.state().particles);
+    const Comparison c = compare(reference.scene(), subject.state(), reference.state());
     if (!identical(c) || step == limit) return {step, c.first};
   }
   return {limit, std::nullopt};
@@ -40,8 +39,8 @@ ValidationReport validate(Simulation& subject, Simulation& reference, uint64_t s
     reference.advance(batch);
     step += batch;
     State ours = subject.state(), theirs = reference.state();
-    const Checkpoint checkpoint{step, compare(reference.scene(), ours.particles, theirs.particles),
-                                stateHash(ours.particles), stateHash(theirs.particles)};
+    const Checkpoint checkpoint{step, compare(reference.scene(), ours, theirs), stateHash(ours),
+                                stateHash(theirs)};
     report.checkpoints.push_back(checkpoint);
     if (onCheckpoint) onCheckpoint(checkpoint);
     report.pass = report.pass && checkpoint.comparison.maxUlp <= toleranceUlp;

@@ -5,6 +5,10 @@
 
 namespace lava::spirv {
 #include "copy_comp.h"
+#include "flow_comp.h"
+#include "flow_plain.h"
+#include "flow_rte.h"
+#include "flow_signed_zero.h"
 #include "glow_frag.h"
 #include "glow_light.h"
 #include "glow_light_buffer.h"

@@ -1,0 +1,394 @@
+#version 460
+// One pass of one step of the flow (docs/model.md, "The flow"), on the flow's own copy of its
+// particles, their temperatures and crust flags: the step's births and the grid (births,
+// scan, scatter, order), then the two neighbour passes (density, forces and the step), then
+// the results over the state (store). The host records the seven passes per step, with a
+// barrier between each, and copies the flow's particles into the state's chunks after the
+// last step it records.
+//
+// Exactness: as step.comp (every float `precise`, the operations in flow.cpp's order, no
+// square root or division), and every neighbour sum in an order fixed by the state: the
+// buckets' slots are put in flow index order (kFlowOrder) whatever order the scatter's atomics
+// gave them, and the 27 cells are visited z, y, x from -1 to +1.
+#extension GL_EXT_control_flow_attributes : require
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_spirv_intrinsics : require
+#include "shared.h"
+
+#if LAVA_SIGNED_ZERO
+spirv_execution_mode(capabilities = [4466], 4461, 32);  // SignedZeroInfNanPreserve 32
+#endif
+#if LAVA_RTE
+spirv_execution_mode(capabilities = [4467], 4462, 32);  // RoundingModeRTE 32
+#endif
+
+layout(local_size_x_id = 0) in;
+layout(constant_id = kForcesConstant) const uint kForces = 0u;
+layout(constant_id = kCollidersConstant) const uint kColliders = 0u;
+layout(constant_id = kForceKindsConstant) const uint kForceKinds = 0u;
+layout(constant_id = kColliderKindsConstant) const uint kColliderKinds = 0u;
+
+layout(std430, binding = kFlowParticleBinding) restrict buffer Particles {
+  Particle particles[];
+};
+layout(std430, binding = kScheduleBinding) restrict readonly buffer Schedule {
+  EmitEntry schedule[];
+};
+layout(std430, binding = kFlowHeatBinding) restrict buffer Heat {
+  FlowHeat heat[];
+};
+layout(std140, binding = kSceneBinding) uniform Scene {
+  SceneParams scene;
+};
+layout(std140, binding = kFlowParamsBinding) uniform Flow {
+  FlowParams flow;
+};
+layout(std430, binding = kFlowNextBinding) restrict buffer Next {
+  FlowNext next[];
+};
+layout(std430, binding = kFlowScratchBinding) restrict buffer Scratch {
+  FlowScratch scratch[];
+};
+layout(std430, binding = kFlowGridBinding) restrict buffer Grid {
+  uint grid[];  // counts[buckets], start[buckets + 1], sorted[flow slots]
+};
+layout(push_constant) uniform Push {
+  FlowStepParams p;
+};
+
+#include "model.glsl"
+
+shared uint partial[kWorkgroupSize];
+
+uint buckets() {
+  return flow.sizes.x;
+}
+uint startAt(uint b) {
+  return buckets() + b;
+}
+uint sortedAt(uint e) {
+  return 2u * buckets() + 1u + e;
+}
+
+// The flow emitter (an index into flow.emitters) of flow index f.
+uint flowEmitter(uint f) {
+  uint e = 0u;
+  for (uint i = 1u; i < flow.sizes.z; ++i)
+    if (f >= flow.emitters[i].slots.y) e = i;
+  return e;
+}
+
+// Pair terms below the tiny term become +0: no denormal enters a sum.
+float tiny(precise float term) {
+  return abs(term) < flow.limits.y ? 0.0 : term;
+}
+
+// 1/q from 1/sqrt(q) squared.
+float reciprocal(precise float q) {
+  precise float y = inverseRoot(q);
+  precise float r = y * y;
+  return r;
+}
+
+// At most 1: the factor that keeps a particle's exchange rates summing to at most 1/2.
+float stable(precise float rate) {
+  precise float r = 1.0;
+  if (rate > 0.5) r = 0.5 * reciprocal(rate);
+  return r;
+}
+
+ivec3 cellOf(precise vec3 x) {
+  precise vec3 u = x * flow.kernel.x;
+  const float limit = flow.limits.w;
+  u = min(max(u, vec3(-limit)), vec3(limit - 1.0));
+  return ivec3(floor(u));
+}
+
+uint bucketOf(ivec3 c) {
+  return ((uint(c.x) * 73856093u) ^ (uint(c.y) * 19349663u) ^ (uint(c.z) * 83492791u)) &
+         (buckets() - 1u);
+}
+
+float tableAt(uint i) {
+  return flow.table[i >> 2u][i & 3u];
+}
+
+// The viscosity at temperature t: the table, interpolated; exact at both ends.
+float viscosityAt(precise float t) {
+  if (t >= flow.heat.y) return flow.rates.x;
+  if (t <= flow.heat.x) return flow.rates.y;
+  precise float x = (t - flow.heat.x) * flow.heat.w;
+  const uint i = min(uint(x), kViscosityEntries - 2u);
+  precise float f = x - float(i);
+  precise float a = tableAt(i);
+  precise float b = tableAt(i + 1u);
+  precise float r = a + f * (b - a);
+  return r;
+}
+
+// The distance of a pair and its unit direction n from j to i: coincident pairs are pushed
+// apart along x, the lower flow index (and slot) towards -x.
+float pairDistance(precise float q, precise vec3 d, uint i, uint j, out precise vec3 n) {
+  if (!(q >= flow.limits.z)) {
+    n = vec3(i < j ? -1.0 : 1.0, 0.0, 0.0);
+    return 0.0;
+  }
+  precise float inv = inverseRoot(q);
+  n = inv * d;
+  precise float r = q * inv;
+  return r;
+}
+
+// The step's births (the last one landing on each slot wins, as on the host), then the
+// slot's cell and bucket, counted.
+void births(uint f) {
+  const FlowEmitterParams fe = flow.emitters[flowEmitter(f)];
+  const uint k = fe.slots.x;
+  const uint capacity = fe.slots.w;
+  const EmitEntry entry = schedule[k * p.run.z + p.run.x];
+  const uint count = entry.ring.y;
+  Particle q = particles[f];
+  if (count > 0u) {
+    const uint ringSlot = f - fe.slots.y;
+    const uint head = entry.ring.x;
+    const uint rel = ringSlot >= head ? ringSlot - head : ringSlot + capacity - head;
+    if (rel < count) {
+      const uint birth = rel + ((count - 1u - rel) / capacity) * capacity;
+      const uint serialLo = entry.ring.z + birth;
+      const uint serialHi = entry.ring.w + (serialLo < entry.ring.z ? 1u : 0u);
+      precise vec3 x, v;
+      emit(k, serialLo, serialHi, x, v);
+      q = Particle(vec4(x, 0.0), vec4(v, scene.emitters[k].velocity.w));
+      particles[f] = q;
+      heat[f] = FlowHeat(fe.weights.w, 0u);
+    }
+  }
+  if (q.posAge.w < 0.0) {
+    scratch[f].cell = ivec4(0, 0, 0, int(kFlowUnsorted));
+    return;
+  }
+  const ivec3 c = cellOf(q.posAge.xyz);
+  const uint b = bucketOf(c);
+  scratch[f].cell = ivec4(c, int(b));
+  atomicAdd(grid[b], 1u);
+}
+
+// One workgroup: each bucket's start from the counts (a run of buckets per invocation, then
+// the runs' sums in order), and each count back to 0 for the scatter's cursors.
+void scan(uint t) {
+  const uint per = buckets() / kWorkgroupSize;
+  const uint begin = t * per;
+  uint sum = 0u;
+  for (uint i = 0u; i < per; ++i) sum += grid[begin + i];
+  partial[t] = sum;
+  barrier();
+  if (t == 0u) {
+    uint running = 0u;
+    for (uint i = 0u; i < kWorkgroupSize; ++i) {
+      const uint s = partial[i];
+      partial[i] = running;
+      running += s;
+    }
+    grid[startAt(buckets())] = running;
+  }
+  barrier();
+  uint running = partial[t];
+  for (uint i = 0u; i < per; ++i) {
+    const uint count = grid[begin + i];
+    grid[startAt(begin + i)] = running;
+    grid[begin + i] = 0u;
+    running += count;
+  }
+}
+
+void scatter(uint f) {
+  const uint b = uint(scratch[f].cell.w);
+  if (b == kFlowUnsorted) return;
+  grid[sortedAt(grid[startAt(b)] + atomicAdd(grid[b], 1u))] = f;
+}
+
+// A bucket's slots in flow index order (buckets hold a few slots: an insertion sort), and its
+// count back to 0 for the next step.
+void order(uint b) {
+  const uint begin = grid[startAt(b)], end = grid[startAt(b + 1u)];
+  for (uint e = begin + 1u; e < end; ++e) {
+    const uint f = grid[sortedAt(e)];
+    uint at = e;
+    while (at > begin && grid[sortedAt(at - 1u)] > f) {
+      grid[sortedAt(at)] = grid[sortedAt(at - 1u)];
+      --at;
+    }
+    grid[sortedAt(at)] = f;
+  }
+  grid[b] = 0u;
+}
+
+// The neighbour loops of both passes: every flow slot j within the radius of slot i (i
+// included), the cells z, then y, then x, each bucket's slots in order. BODY sees j, d, q, t.
+#define LAVA_FOR_NEIGHBOURS(i, xi, BODY)                                              \
+  {                                                                                 \
+    const ivec3 home = scratch[i].cell.xyz;                                         \
+    for (int dz = -1; dz <= 1; ++dz)                                                \
+      for (int dy = -1; dy <= 1; ++dy)                                              \
+        for (int dx = -1; dx <= 1; ++dx) {                                          \
+          const ivec3 cell = home + ivec3(dx, dy, dz);                              \
+          const uint b = bucketOf(cell);                                            \
+          const uint end = grid[startAt(b + 1u)];                                   \
+          for (uint e = grid[startAt(b)]; e < end; ++e) {                           \
+            const uint j = grid[sortedAt(e)];                                       \
+            if (scratch[j].cell.xyz != cell) continue;                              \
+            precise vec3 d = xi - particles[j].posAge.xyz;                          \
+            precise float q = (d.x * d.x + d.y * d.y) + d.z * d.z;                  \
+            precise float t = 1.0 - q * flow.kernel.y;                              \
+            if (!(t > flow.limits.x)) continue;                                     \
+            BODY                                                                    \
+          }                                                                         \
+        }                                                                           \
+  }
+
+// Pass 1: the density ratio theta, the exchange rates' stability factors, and whether a
+// solid particle touches crust.
+void density(uint i) {
+  if (uint(scratch[i].cell.w) == kFlowUnsorted) return;
+  const vec3 xi = particles[i].posAge.xyz;
+  precise float theta = 0.0, viscous = 0.0, conductive = 0.0;
+  bool touches = false;
+  precise float nu = viscosityAt(heat[i].temperature);
+  LAVA_FOR_NEIGHBOURS(i, xi, {
+    const FlowEmitterParams w = flow.emitters[flowEmitter(j)];
+    precise vec3 n;
+    precise float r = pairDistance(q, d, i, j, n);
+    precise float tr = max(1.0 - r * flow.kernel.x, 0.0);
+    theta = theta + w.weights.x * ((tr * tr) * tr);
+    if (j != i) {
+      precise float t2 = t * t;
+      precise float nuj = viscosityAt(heat[j].temperature);
+      viscous = viscous + tiny((w.weights.z * (nu + nuj)) * t2);
+      conductive = conductive + tiny(w.weights.z * t2);
+      touches = touches || (heat[j].crust != 0u && q < flow.kernel.z);
+    }
+  })
+  precise float inverse = reciprocal(theta);
+  precise float pi = ((flow.kernel.w * max(theta - 1.0, 0.0)) * inverse) * inverse;
+  precise float conduction = flow.contact.x * conductive;
+  scratch[i].rates = vec4(pi, stable(viscous), stable(conduction), touches ? 1.0 : 0.0);
+}
+
+// Pass 2 and the step: every slot reads the start-of-step state of the others and writes
+// its results to next[].
+void forces(uint i) {
+  if (uint(scratch[i].cell.w) == kFlowUnsorted) return;
+  const uint k = flow.emitters[flowEmitter(i)].slots.x;
+  const Particle pi = particles[i];
+  const FlowHeat hi = heat[i];
+  const vec4 ri = scratch[i].rates;
+  const bool isCrust = hi.crust != 0u;
+  const bool liquid = !isCrust && hi.temperature > flow.heat.x;
+  precise float nu = viscosityAt(hi.temperature);
+  precise vec3 a = vec3(0.0), dv = vec3(0.0);
+  precise float dT = 0.0;
+  const vec3 xi = pi.posAge.xyz;
+  LAVA_FOR_NEIGHBOURS(i, xi, {
+    if (j != i) {
+      const FlowEmitterParams w = flow.emitters[flowEmitter(j)];
+      const FlowHeat hj = heat[j];
+      const vec4 rj = scratch[j].rates;
+      precise float t2 = t * t;
+      precise float heatTerm = (((w.weights.z * flow.contact.x) * t2) * min(ri.z, rj.z)) *
+                               (hj.temperature - hi.temperature);
+      dT = dT + tiny(heatTerm);
+      if (liquid) {
+        const vec3 vj = particles[j].velMass.xyz;
+        precise vec3 n;
+        precise float r = pairDistance(q, d, i, j, n);
+        precise float tr = max(1.0 - r * flow.kernel.x, 0.0);
+        precise float push = (w.weights.y * (ri.x + rj.x)) * (tr * tr);
+        a = a + vec3(tiny(push * n.x), tiny(push * n.y), tiny(push * n.z));
+        precise float nuj = viscosityAt(hj.temperature);
+        precise float rate = ((w.weights.z * (nu + nuj)) * t2) * min(ri.y, rj.y);
+        precise vec3 dvj = vj - pi.velMass.xyz;
+        dv = dv + vec3(tiny(rate * dvj.x), tiny(rate * dvj.y), tiny(rate * dvj.z));
+      }
+    }
+  })
+
+  const World g =
+      World(scene.world.x, scene.world.w, scene.world.y, scene.world.z, scene.wind.xyz);
+  precise float h = g.h;
+  precise vec3 x = pi.posAge.xyz, v = pi.velMass.xyz;
+  bool touched = false, becomesCrust = isCrust;
+  if (!isCrust) {
+    const EmitterParams ep = scene.emitters[k];
+    precise float hm = ep.size.w;
+    precise vec3 f;
+    if (liquid) {  // viscosity, then a semi-implicit Euler step with pressure and the forces
+      v = v + dv;
+      flush(v);
+      force(g, x, v, ep.constants.z, f);
+      v = (v + hm * f) + h * a;
+      flush(v);
+      x = x + h * v;
+    } else if (ri.w != 0.0) {  // a solid touching crust: crust where it is
+      becomesCrust = true;
+    } else {  // a cinder: falls as any particle
+      force(g, x, v, ep.constants.z, f);
+      v = v + hm * f;
+      flush(v);
+      x = x + h * v;
+    }
+    if (!becomesCrust) {
+      const vec3 moved = x;
+      ground(flow.contact.y, g.friction, x, v);
+      [[unroll]] for (uint c = 0u; c < kColliders; ++c) {
+        ColliderParams contact = scene.colliders[c];
+        contact.material.x = flow.contact.y;
+        collide(contact, (kColliderKinds >> (2u * c)) & 3u, x, v);
+      }
+      touched = any(notEqual(moved, x));
+      becomesCrust = !liquid && touched;
+    }
+    if (becomesCrust) v = vec3(0.0);
+  }
+  precise float cool = touched ? flow.rates.w : flow.rates.z;
+  precise float t1 = (hi.temperature + dT) - cool * (hi.temperature - flow.heat.z);
+  precise float age = pi.posAge.w + h;
+  const float lifetime = scene.emitters[k].spread.w;
+  if (lifetime > 0.0 && age >= lifetime) {  // dies: an unborn slot's temperature and flag
+    age = -1.0;
+    t1 = 0.0;
+    becomesCrust = false;
+  }
+  next[i] = FlowNext(vec4(x, age), vec4(v, pi.velMass.w), vec4(t1, becomesCrust ? 1.0 : 0.0, 0.0, 0.0));
+}
+
+void store(uint f) {
+  if (uint(scratch[f].cell.w) == kFlowUnsorted) return;
+  const FlowNext r = next[f];
+  particles[f] = Particle(r.posAge, r.velMass);
+  heat[f] = FlowHeat(r.heat.x, r.heat.y != 0.0 ? 1u : 0u);
+}
+
+void main() {
+  const uint pass = p.run.y;
+  if (pass == kFlowScan) {  // uniform: one workgroup, with barriers
+    scan(gl_LocalInvocationID.x);
+    return;
+  }
+  const uint id = gl_GlobalInvocationID.x;
+  if (pass == kFlowOrder) {
+    if (id < buckets()) order(id);
+    return;
+  }
+  if (id >= flow.sizes.y) return;
+  if (pass == kFlowBirths) {
+    births(id);
+  } else if (pass == kFlowScatter) {
+    scatter(id);
+  } else if (pass == kFlowDensity) {
+    density(id);
+  } else if (pass == kFlowForces) {
+    forces(id);
+  } else {
+    store(id);
+  }
+}
