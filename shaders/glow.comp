@@ -59,7 +59,7 @@ void splat() {
     firstVertex = 0u;
     firstInstance = 0u;
   }
-  uint i = gl_GlobalInvocationID.x * g.grid.w;
+  uint i = g.target.w + gl_GlobalInvocationID.x * g.grid.w;
   if (i >= g.grid.z) return;
   vec4 posAge = texelFetch(particles, int(2u * i));
   if (posAge.w < 0.0) return;

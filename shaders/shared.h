@@ -234,6 +234,20 @@ struct FlowStepParams {
   uvec4 run;  // x the step's schedule entry, y the pass, z entries per emitter in the schedule
 };
 
+// rock.vert / rock.frag: the flow drawn as molten rock, a soft disc a flow slot facing the
+// camera, crust and cinders first, the liquid over them.
+const uint kRockParticleBinding = 0u;  // the flow's particles (GpuSimulation::flowBuffers)
+const uint kRockHeatBinding = 1u;      // FlowHeat beside each
+const uint kRockSolid = 0u;            // RockParams.draw.x: crust and cinders
+const uint kRockLiquid = 1u;           // the liquid
+
+// Push constants of rock.vert and rock.frag.
+struct RockParams {
+  mat4 viewProj;  // as DrawParams
+  vec4 heat;      // x solidus, y the eruption's temperature, z ambient (K), w disc radius (m)
+  uvec4 draw;     // x kRockSolid or kRockLiquid
+};
+
 // The two looks (DrawParams.style.w, BackdropParams.eye.w).
 const float kLookPlain = 0.0;  // the seed's: orange to red by speed, darker with age, added
 const float kLookLava = 1.0;   // molten rock: energy tone mapped as it is added, and glow
@@ -262,9 +276,10 @@ struct BackdropParams {
 struct SplatParams {
   mat4 viewProj;  // as DrawParams
   vec4 style;     // as DrawParams
-  uvec4 target;   // x width, y height (pixels), z particles in the bound range, w 1 when a
-                  // scene depth is bound to test against
+  uvec4 target;   // x width, y height (pixels), z the end of the dispatch's particles in the
+                  // bound chunk, w 1 when a scene depth is bound to test against
   vec4 look;      // x exposure
+  uvec4 range;    // x the first of the dispatch's particles in the bound chunk
 };
 // Fixed-point scale of one line's colour (lava: energy) in the splat's sums: red in the high
 // 16 bits, green in the low 16, each at most 1.7 a line (lava: red 1.64, green 1.0). A
@@ -314,9 +329,11 @@ const uint kGlowDrawSumsBinding = 2u;   // glow_resolve.frag: the splat's sums
 struct GlowParams {
   mat4 viewProj;  // as DrawParams
   vec4 style;     // as DrawParams
-  uvec4 grid;     // x cells across, y cells down, z particles in the bound range, w stride:
-                  // every stride-th particle is added, its energy times stride
-  uvec4 target;   // x width, y height (pixels), z 1 for the first chunk's splat
+  uvec4 grid;     // x cells across, y cells down, z the end of the dispatch's particles in
+                  // the bound chunk, w stride: every stride-th particle from target.w is
+                  // added, its energy times stride
+  uvec4 target;   // x width, y height (pixels), z 1 for the first dispatch's splat, w the
+                  // first of the dispatch's particles in the bound chunk
   vec4 glow;      // x threshold (energy per pixel below which nothing glows), y strength,
                   // z exposure
 };
@@ -357,10 +374,11 @@ static_assert(sizeof(FlowHeat) == 8 && sizeof(FlowNext) == 48 && sizeof(FlowScra
 static_assert(sizeof(FlowParams) == 96 + 16 * 16 + 32 * kMaxEmitters,
               "FlowParams as std140 lays it out");
 static_assert(sizeof(StepParams) == 32, "StepParams fits any push-constant budget");
+static_assert(sizeof(RockParams) == 96, "RockParams must fit 128 bytes of push constants");
 static_assert(sizeof(DrawParams) == 96, "DrawParams must fit 128 bytes of push constants");
 static_assert(sizeof(GlowParams) == 128, "GlowParams must fit 128 bytes of push constants");
 static_assert(sizeof(BackdropParams) == 128, "BackdropParams must fit 128 bytes of push constants");
-static_assert(sizeof(SplatParams) == 112, "SplatParams must fit 128 bytes of push constants");
+static_assert(sizeof(SplatParams) == 128, "SplatParams must fit 128 bytes of push constants");
 }  // namespace lava::gpu
 #endif
 #undef LAVA_FN

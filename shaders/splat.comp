@@ -86,7 +86,7 @@ void addPixels(uint at, uint add, bool both) {
 #endif
 
 void main() {
-  uint i = gl_GlobalInvocationID.x;
+  uint i = s.range.x + gl_GlobalInvocationID.x;
   if (i >= s.target.z) return;
   Particle q = Particle(texelFetch(particles, int(2u * i)), texelFetch(particles, int(2u * i + 1u)));
   if (q.posAge.w < 0.0) return;  // not alive: draws nothing

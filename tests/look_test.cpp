@@ -3,7 +3,8 @@
 // the glow lights pixels near bright lava and none far from it; 262,144 particles do not
 // burn out to white; lava at rest stays visible; the splat hides what the cone hides; the
 // two renderers agree; the glow's pass resolves every pixel the splat drew; the sky is its
-// gradient.
+// gradient; the flow's molten rock is brighter than its crust, has no holes, and hides behind
+// the cone.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -80,6 +81,49 @@ class LookTest : public test::VulkanTest {
     const OffscreenTarget target(device(), size);
     return host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
   }
+
+  // One lava-look frame of a flow: `particles` with their temperatures and crust flags, the
+  // state of one flow emitter of `scene` (a box emitter: no crater scenery under it).
+  struct Rock {
+    glm::vec3 x;
+    float temperature;
+    bool crust;
+  };
+  std::vector<uint8_t> renderRock(Scene scene, const std::vector<Rock>& rock, LineMode mode) {
+    if (!scene.flow) scene.flow.emplace();
+    scene.emitters.resize(1);
+    Emitter& e = scene.emitters[0];
+    e.particles = static_cast<uint32_t>(std::max<size_t>(rock.size(), 1));
+    e.flow = true;
+    e.shape = Shape::Box;
+    const float spacing = 0.5f * scene.flow->radius;
+    e.mass = scene.flow->density * spacing * spacing * spacing;
+    GpuSimulation simulation(device(), scene);
+    State state = initialState(scene);
+    for (size_t i = 0; i < rock.size(); ++i) {
+      state.particles[i] = Particle{rock[i].x.x, rock[i].x.y, rock[i].x.z, 1.0f, 0.0f, 0.0f,
+                                   0.0f, e.mass};
+      state.temperature[i] = rock[i].temperature;
+      state.crust[i] = rock[i].crust ? 1 : 0;
+    }
+    simulation.setState(state);
+    return draw(simulation, mode, kNoBloomSettings(), kSize);
+  }
+  static LookSettings kNoBloomSettings() { return {1.0f, 0.0f, 0.1f}; }
+  // A settled pool on the ground at `centre`: a layer on a square lattice of the rest
+  // spacing within `radius`; hot inside `hot`, crust beyond it.
+  static std::vector<Rock> pool(glm::vec3 centre, float radius, float hot) {
+    std::vector<Rock> out;
+    const float s = 0.03f;
+    for (float z = -radius; z <= radius; z += s)
+      for (float x = -radius; x <= radius; x += s) {
+        const float r = std::sqrt(x * x + z * z);
+        if (r > radius) continue;
+        out.push_back({centre + glm::vec3(x, 0.0f, z), r < hot ? 1400.0f : 900.0f, r >= hot});
+      }
+    return out;
+  }
+  static double luminance(glm::ivec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
   glm::vec2 project(glm::vec3 p) const {
     const glm::vec4 clip =
@@ -228,6 +272,69 @@ TEST_F(LookTest, SplatHidesWhatTheConeHides) {
     const auto empty = render(scene, {unborn()}, mode, kNoBloom);
     EXPECT_EQ(render(scene, {particle(behind, v, 0.0f)}, mode, kNoBloom), empty);
     EXPECT_NE(render(scene, {particle(beside, v, 0.0f)}, mode, kNoBloom), empty);
+  }
+}
+
+TEST_F(LookTest, AHotPoolIsBrighterThanItsCrustedEdge) {
+  // Molten rock glows; the crust around it is dark (its cracks aside): the pool's middle is
+  // far brighter than its rim, in both renderers.
+  const std::vector<Rock> rock = pool(glm::vec3(0.0f), 0.45f, 0.25f);
+  for (LineMode mode : kModes) {
+    SCOPED_TRACE(name(mode));
+    const auto image = renderRock(Scene{}, rock, mode);
+    double middle = 0.0, rim = 0.0;
+    int inside = 0, outside = 0;
+    for (const Rock& r : rock) {
+      const double l = luminance(pixel(image, glm::ivec2(project(r.x))));
+      if (r.crust) {
+        rim += l, ++outside;
+      } else {
+        middle += l, ++inside;
+      }
+    }
+    middle /= inside, rim /= outside;
+    EXPECT_GT(middle, 100.0) << "the molten middle's mean luminance";
+    EXPECT_GT(middle, 3.0 * rim) << "middle " << middle << ", rim " << rim;
+  }
+}
+
+TEST_F(LookTest, ASettledPoolHasNoHoles) {
+  // Every pixel inside a settled pool, hot or crusted, is rock: none shows the ground.
+  const std::vector<Rock> rock = pool(glm::vec3(0.0f), 0.45f, 0.25f);
+  for (LineMode mode : kModes) {
+    SCOPED_TRACE(name(mode));
+    const auto ground = renderRock(Scene{}, {}, mode);
+    const auto image = renderRock(Scene{}, rock, mode);
+    int holes = 0, checked = 0;
+    for (float r = 0.0f; r < 0.4f; r += 0.01f)
+      for (float a = 0.0f; a < 6.283f; a += 0.05f) {
+        const glm::ivec2 at(project(glm::vec3(r * std::cos(a), 0.0f, r * std::sin(a))));
+        const glm::ivec3 d = pixel(image, at) - pixel(ground, at);
+        ++checked;
+        if (std::abs(d.x) + std::abs(d.y) + std::abs(d.z) < 6) ++holes;
+      }
+    EXPECT_EQ(holes, 0) << "of " << checked << " points inside the pool";
+  }
+}
+
+TEST_F(LookTest, TheConeHidesRockBehindIt) {
+  // A molten pool behind the volcano's cone, seen from the camera, is hidden by it in both
+  // renderers; the same pool beside the cone is drawn.
+  Scene scene;
+  Collider cone;
+  cone.type = ColliderType::Cone;
+  cone.baseRadius = 1.6f;
+  cone.topRadius = 0.4f;
+  cone.height = 1.4f;
+  scene.colliders = {cone};
+  const glm::vec3 eye(camera_.eye().x, 0.0f, camera_.eye().z);
+  const glm::vec3 away = glm::normalize(-eye);
+  const glm::vec3 side = glm::normalize(glm::cross(away, glm::vec3(0.0f, 1.0f, 0.0f)));
+  for (LineMode mode : kModes) {
+    SCOPED_TRACE(name(mode));
+    const auto empty = renderRock(scene, {}, mode);
+    EXPECT_TRUE(renderRock(scene, pool(away * 2.3f, 0.15f, 0.1f), mode) == empty);
+    EXPECT_FALSE(renderRock(scene, pool(side * 2.6f, 0.15f, 0.1f), mode) == empty);
   }
 }
 

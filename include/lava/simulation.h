@@ -162,6 +162,16 @@ class LAVA_API GpuSimulation final : public Simulation {
   std::string name() const override;
 
   const std::vector<ParticleChunk>& chunks() const;
+  // The flow's own particles, one per flow slot (the flow emitters' rings one after
+  // another; their copies in chunks() are made after each recorded batch of steps), and
+  // beside each its temperature (float, K) and crust flag (uint32, 1: crust): what the
+  // renderers draw molten rock from. Null and 0 slots for a scene without flow emitters.
+  struct FlowBuffers {
+    VkBuffer particles = VK_NULL_HANDLE;
+    VkBuffer heat = VK_NULL_HANDLE;
+    uint32_t slots = 0;
+  };
+  FlowBuffers flowBuffers() const;
   const GpuSimulationOptions& options() const;
   // The host's side of the state, without a read-back: each emitter's clock and the steps
   // planned so far (by update() and the blocking helpers).

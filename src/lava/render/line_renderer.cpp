@@ -12,6 +12,8 @@
 // its threads), so there are no more than the data flow needs.
 #include "lava/renderer.h"
 
+#include <cmath>
+
 #include <glm/gtc/type_ptr.hpp>
 
 #include "lava/error.h"
@@ -44,6 +46,25 @@ VkDescriptorType readAs(bool texels) {
   return texels ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
 }
 
+// The runs [x, y) of `chunk`'s particles (chunk-local) that no flow emitter owns: lines and
+// their glow are the sparks'; the flow is drawn as rock.
+std::vector<glm::uvec2> lineRanges(const Scene& scene, const ParticleChunk& chunk) {
+  std::vector<glm::uvec2> out;
+  uint64_t first = 0;
+  for (const Emitter& e : scene.emitters) {
+    const uint64_t begin = std::max(first, chunk.first);
+    const uint64_t end = std::min(first + e.particles, chunk.first + chunk.count);
+    first += e.particles;
+    if (e.flow || begin >= end) continue;
+    const glm::uvec2 r(uint32_t(begin - chunk.first), uint32_t(end - chunk.first));
+    if (!out.empty() && out.back().y == r.x)
+      out.back().y = r.y;
+    else
+      out.push_back(r);
+  }
+  return out;
+}
+
 // Per frame slot, what the glow passes write.
 struct GlowSlot {
   Buffer sums, light, list;
@@ -59,8 +80,10 @@ struct LineRenderer::Impl {
   LookStyle style = LookStyle::Lava;
   LookSettings settings;
   detail::UniqueSampler nearest;
-  detail::UniqueDescriptorSetLayout lineSet, splatSet, resolveSet, glowSet, glowDrawSet;
+  detail::UniqueDescriptorSetLayout lineSet, splatSet, resolveSet, glowSet, glowDrawSet, rockSet;
   detail::UniquePipelineLayout lineLayout, splatLayout, resolveLayout, glowLayout, glowDrawLayout;
+  detail::UniquePipelineLayout rockLayout;
+  detail::UniquePipeline rock;  // the flow as molten rock
   detail::UniquePipeline plainLines, lavaLines, splatPipeline, plainResolve, lavaResolve, glowDraw;
   detail::UniquePipeline glowResolve;  // the glow's quads resolving the splat's sums too
   detail::UniquePipeline glowSplat, glowLight;
@@ -106,6 +129,9 @@ struct LineRenderer::Impl {
                : d.buffer(binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, accumulation[frame].get());
   }
 
+  // The flow's molten rock under the lines, both renderers alike.
+  void recordRock(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
+                  const View& view) const;
   void recordSplat(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
                    const View& view, VkImageView depth) const;
   void bindGlow(VkCommandBuffer commands, uint32_t frame, VkBufferView particles,
@@ -133,6 +159,16 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats)
   lines.additive = false;
   lines.screen = true;
   m.lavaLines = detail::createGraphicsPipeline(c, m.lineLayout, lines);
+
+  m.rockSet = detail::createSetLayout(
+      c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+      VK_SHADER_STAGE_VERTEX_BIT);
+  m.rockLayout = detail::createPipelineLayout(c, m.rockSet, kDrawStages, sizeof(gpu::RockParams));
+  detail::GraphicsPipelineDesc rock{LAVA_SPIRV(spirv::kRockVertSpv),
+                                    LAVA_SPIRV(spirv::kRockFragSpv), formats};
+  rock.over = true;
+  rock.depthWrite = false;  // the host's depth may be read-only; the discs are soft anyway
+  m.rock = detail::createGraphicsPipeline(c, m.rockLayout, rock);
 
   m.nearest = detail::createSampler(c, VK_FILTER_NEAREST);
   m.splatSet = detail::createSetLayout(
@@ -335,6 +371,34 @@ gpu::GlowParams glowParams(const GpuSimulation& simulation, const View& view,
 
 }  // namespace
 
+void LineRenderer::Impl::recordRock(VkCommandBuffer commands, uint32_t frame,
+                                    const GpuSimulation& simulation, const View& view) const {
+  const GpuSimulation::FlowBuffers flow = simulation.flowBuffers();
+  if (flow.slots == 0) return;
+  const Scene& scene = simulation.scene();
+  float spacing = scene.flow->radius * 0.5f;  // the first flow emitter's rest spacing
+  for (const Emitter& e : scene.emitters)
+    if (e.flow) {
+      spacing = std::cbrt(e.mass / scene.flow->density);
+      break;
+    }
+  gpu::RockParams params{};
+  params.viewProj = glm::make_mat4(view.viewProj.m);
+  // Discs 1.2 rest spacings across their opaque core: a settled pool shows no gaps.
+  params.heat = {scene.flow->solidus, scene.flow->temperature, scene.flow->ambient,
+                 1.2f * spacing};
+  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, rock);
+  detail::Descriptors()
+      .buffer(gpu::kRockParticleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, flow.particles)
+      .buffer(gpu::kRockHeatBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, flow.heat)
+      .bind(c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, rockLayout, rockSet, sets[frame]);
+  for (uint32_t phase : {gpu::kRockSolid, gpu::kRockLiquid}) {
+    params.draw.x = phase;
+    c.vk.CmdPushConstants(commands, rockLayout, kDrawStages, 0, sizeof(params), &params);
+    c.vk.CmdDraw(commands, 6, flow.slots, 0, 0);
+  }
+}
+
 void LineRenderer::Impl::recordSplat(VkCommandBuffer commands, uint32_t frame,
                                      const GpuSimulation& simulation, const View& view,
                                      VkImageView depth) const {
@@ -343,7 +407,8 @@ void LineRenderer::Impl::recordSplat(VkCommandBuffer commands, uint32_t frame,
   gpu::SplatParams params = splatParams(simulation, view, style, settings);
   params.target.w = depth ? 1u : 0u;
   for (const ParticleChunk& chunk : simulation.chunks()) {
-    params.target.z = chunk.count;
+    const std::vector<glm::uvec2> ranges = lineRanges(simulation.scene(), chunk);
+    if (ranges.empty()) continue;
     detail::Descriptors()
         .texels(gpu::kSplatParticleBinding, chunk.texels)
         .buffer(gpu::kSplatSumsBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sums.get())
@@ -351,9 +416,13 @@ void LineRenderer::Impl::recordSplat(VkCommandBuffer commands, uint32_t frame,
                depth ? depth : noDepth.view.get(), VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL)
         .buffer(gpu::kSplatMarksBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, marks[frame].get())
         .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, splatLayout, splatSet, sets[frame]);
-    c.vk.CmdPushConstants(commands, splatLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
-                          &params);
-    c.vk.CmdDispatch(commands, detail::groupCount(chunk.count, gpu::kWorkgroupSize), 1, 1);
+    for (const glm::uvec2& r : ranges) {
+      params.range.x = r.x;
+      params.target.z = r.y;
+      c.vk.CmdPushConstants(commands, splatLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
+                            &params);
+      c.vk.CmdDispatch(commands, detail::groupCount(r.y - r.x, gpu::kWorkgroupSize), 1, 1);
+    }
   }
 }
 
@@ -381,17 +450,20 @@ void LineRenderer::Impl::recordGlow(VkCommandBuffer commands, uint32_t frame,
   const uint32_t stride = params.grid.w;
   params.target.z = 1;  // the first chunk's splat resets the list
   for (const ParticleChunk& chunk : simulation.chunks()) {
-    if (params.target.z == 0)  // after the first chunk: its adds before this chunk's
-      detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                            VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                            VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-    params.grid.z = chunk.count;
-    bindGlow(commands, frame, chunk.texels, params);
-    c.vk.CmdDispatch(
-        commands,
-        detail::groupCount((uint64_t{chunk.count} + stride - 1) / stride, gpu::kWorkgroupSize), 1,
-        1);
-    params.target.z = 0;
+    for (const glm::uvec2& r : lineRanges(simulation.scene(), chunk)) {
+      if (params.target.z == 0)  // after the first dispatch: its adds before this one's
+        detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                              VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                              VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+      params.grid.z = r.y;
+      params.target.w = r.x;
+      bindGlow(commands, frame, chunk.texels, params);
+      c.vk.CmdDispatch(
+          commands,
+          detail::groupCount((uint64_t{r.y - r.x} + stride - 1) / stride, gpu::kWorkgroupSize),
+          1, 1);
+      params.target.z = 0;
+    }
   }
 }
 
@@ -493,6 +565,7 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
   const bool lava = m.style == LookStyle::Lava;
   const bool glow = lava && m.settings.bloom > 0.0f;
   const bool splat = m.mode == LineMode::Splat;
+  m.recordRock(commands, frame, simulation, view);
   // The lines: the graphics pipeline's, or the splat's sums resolved over its marked tiles.
   // With the glow on, the glow's quads resolve the sums instead (below), in their own pass:
   // one blend a pixel where two passes would take two.
@@ -506,11 +579,13 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
                            lava ? m.lavaLines : m.plainLines);
     m.c.vk.CmdPushConstants(commands, m.lineLayout, kDrawStages, 0, sizeof(params), &params);
     for (const ParticleChunk& chunk : simulation.chunks()) {
+      const std::vector<glm::uvec2> ranges = lineRanges(simulation.scene(), chunk);
+      if (ranges.empty()) continue;
       detail::Descriptors()
           .texels(gpu::kParticleBinding, chunk.texels)
           .bind(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.lineLayout, m.lineSet,
                 m.sets[frame]);
-      m.c.vk.CmdDraw(commands, 2 * chunk.count, 1, 0, 0);
+      for (const glm::uvec2& r : ranges) m.c.vk.CmdDraw(commands, 2 * (r.y - r.x), 1, 2 * r.x, 0);
     }
   } else if (!glow) {
     const gpu::SplatParams params = splatParams(simulation, view, m.style, m.settings);

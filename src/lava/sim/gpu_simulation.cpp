@@ -377,6 +377,11 @@ const std::vector<ParticleChunk>& GpuSimulation::chunks() const {
   return impl_->chunks;
 }
 
+GpuSimulation::FlowBuffers GpuSimulation::flowBuffers() const {
+  const FlowState* f = impl_->flow.get();
+  return f ? FlowBuffers{f->particles.get(), f->heat.get(), f->slots} : FlowBuffers{};
+}
+
 const GpuSimulationOptions& GpuSimulation::options() const {
   return impl_->options;
 }

@@ -36,6 +36,8 @@ struct GraphicsPipelineDesc {
   // Blend src (1 - dst) + dst: colours in [0, 1) compose as 1 - (1 - a)(1 - b), so a target
   // holding T(x) = 1 - exp(-x) receives T(x + y) from a source T(y).
   bool screen = false;
+  // Blend src + dst (1 - src alpha): premultiplied colours laid over the target.
+  bool over = false;
   bool depthTest = true;
   bool depthWrite = true;
 };

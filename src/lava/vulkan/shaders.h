@@ -24,6 +24,8 @@ namespace lava::spirv {
 #include "resolve_buffer_frag.h"
 #include "resolve_frag.h"
 #include "resolve_vert.h"
+#include "rock_frag.h"
+#include "rock_vert.h"
 #include "sky_vert.h"
 #include "splat_comp.h"
 #include "splat_pairs.h"
