@@ -143,6 +143,30 @@ TEST(Bench, WritesTheJsonItPromises) {
   EXPECT_NE(r.out.find("x compute"), std::string::npos) << r.out;
 }
 
+TEST(Bench, FlowRowsHaveTheirPairsAndCeiling) {
+  const std::string json = scratch("bench-flow.json");
+  const Result r = lava("bench --flow --sizes 600 --steps 3 --json " + json);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string text = readFile(json);
+  for (const char* key :
+       {"\"flow\"", "\"backend\": \"gpu\"", "\"backend\": \"cpu\"", "\"backend\": \"cpu-mt\"",
+        "\"particles\": 600", "\"particle_steps_per_second\"", "\"pairs_per_second\"",
+        "\"ceiling_pairs_per_second\""})
+    EXPECT_NE(text.find(key), std::string::npos) << key << "\n" << text;
+  // The slab's particles have tens of neighbours each (the rest lattice within the radius).
+  for (const char* backend : {"\ngpu ", "\ncpu ", "\ncpu-mt "}) {
+    const size_t at = r.out.find(backend);
+    ASSERT_NE(at, std::string::npos) << backend << "\n" << r.out;
+    std::istringstream row(r.out.substr(at + 1));
+    std::string name;
+    double particles = 0, steps = 0, pairs = 0;
+    row >> name >> particles >> steps >> pairs;
+    EXPECT_EQ(particles, 600.0) << r.out;
+    EXPECT_GT(pairs, 20.0) << r.out;
+    EXPECT_LT(pairs, 80.0) << r.out;
+  }
+}
+
 TEST(Render, VideoEncodesWithFfmpegOrSaysItIsMissing) {
   // Both branches in every run: ffmpeg missing from the PATH, and a stand-in ffmpeg that
   // records what it was given (no shell between: a quote in a path is just a character);

@@ -10,7 +10,8 @@
 #                  for the demo when the machine has none)
 #   --dry          the same steps at small sizes (CI runs it on lavapipe)
 #   OUT            folder for the results (created): env.txt, info.txt, suite.xml,
-#                  suite.csv, validate-*.txt, bench*.json/.txt, render-*/, demo.txt, summary.txt
+#                  suite.csv, validate-*.txt, bench*.json/.txt (bench-flow: the flow's rows),
+#                  render-*/ (render-flow: the eruption), demo.txt, summary.txt
 #
 # lava needs, beside glibc: libvulkan1, libglfw3, libx11-6, libxext6, libhwy1 (cpu-simd)
 # and libstdc++6 from Debian 12 (ldd's "not found" lines land in env.txt).
@@ -29,7 +30,7 @@ while [ $# -gt 0 ]; do
     --dry) dry=1 ;;
     --lava) lava="$2"; shift ;;
     --prefix) prefix="$2"; shift ;;
-    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
     -*) echo "gpu-check: unknown option $1 (see --help)" >&2; exit 2 ;;
     *) out="$1" ;;
   esac
@@ -45,9 +46,11 @@ fi
 
 if [ "$dry" = 1 ]; then
   sizes=65536,262144; steps=3000; particles=20000; demo_particles=20000; frames=60
+  flow_sizes=1024; flow_warmup=0.5
 else
   sizes=1048576,16777216,67108864,268435456; steps=3000; particles=1048576
   demo_particles=262144; frames=600
+  flow_sizes=16384,262144,1048576; flow_warmup=40
 fi
 
 failures=0
@@ -93,6 +96,12 @@ step bench-unfused "$lava" bench --sizes "${sizes%%,*}" --steps 50 --backends gp
 # The GPU against the host's CPU on all its cores, SIMD lanes as wide as it runs.
 step bench-cpu "$lava" bench --sizes "${sizes%%,*}" --steps 200 --backends gpu,cpu-simd-mt \
   --json "$out/bench-cpu.json"
+# The flow: its passes' speed against the density sum alone, up to a million flow particles,
+# and the eruption drawn after it has flowed and crusted.
+step bench-flow "$lava" bench --flow --sizes "$flow_sizes" --steps 100 --backends gpu \
+  --json "$out/bench-flow.json"
+step render-flow "$lava" render --frames 2 --scene "$here/scenes/eruption.toml" \
+  --warmup "$flow_warmup" --out "$out/render-flow"
 step render-lines "$lava" render --frames 2 --renderer lines --out "$out/render-lines"
 step render-splat "$lava" render --frames 2 --renderer splat --particles "$demo_particles" \
   --rate $((demo_particles / 5)) --warmup 5 --out "$out/render-splat"

@@ -35,4 +35,20 @@ LAVA_API double cpuComputeUpdatesPerSecond(const Scene& scene, const std::vector
                                            int passes = 3, double seconds = 0.15,
                                            const std::string& simdTarget = "");
 
+// The flow's neighbour lists of `state`: for each alive flow particle, in state order, the
+// alive flow particles within the flow's radius (docs/model.md's pair test), itself excluded.
+struct FlowNeighbours {
+  std::vector<Particle> particles;  // the alive flow particles
+  std::vector<uint32_t> starts;     // particle i's neighbours: lists[starts[i], starts[i + 1])
+  std::vector<uint32_t> lists;      // indices into `particles`
+};
+LAVA_API FlowNeighbours flowNeighbours(const Scene& scene, const State& state);
+
+// Blocking (the GPU's: submits and waits). The flow's ceilings: neighbour pairs per second of
+// the density sum over `neighbours` alone, with no grid and no sort (medians of `passes`).
+LAVA_API double gpuFlowPairsPerSecond(Device& device, const Scene& scene,
+                                      const FlowNeighbours& neighbours, int passes = 5);
+LAVA_API double cpuFlowPairsPerSecond(const Scene& scene, const FlowNeighbours& neighbours,
+                                      unsigned threads, int passes = 5);
+
 }  // namespace lava

@@ -3,6 +3,7 @@
 // backends) the same kernel's step alone on particles that never leave L1.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <map>
@@ -78,6 +79,11 @@ class BenchCommand final : public Command {
                    }
                    simdTarget_ = t;
                  });
+    options_.addFlag("flow",
+                     "the flow's rows instead (backends gpu, cpu, cpu-mt): a slab of --sizes flow "
+                     "particles at rest [4096,16384], its particle-steps/s, neighbour pairs/s "
+                     "and their fraction of the density sum alone over lists made beforehand",
+                     flow_);
     options_.add("json", "also write the results to FILE.json",
                  [this](const std::string& src, const std::string& t) {
                    checkOutputPath(src, t, ".json");
@@ -93,6 +99,7 @@ class BenchCommand final : public Command {
     Device context(deviceOptions(device_));
     const std::string device = context.properties().deviceName;
     const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    if (flow_) return runFlow(context, device, cores);
     std::printf("bench: %s, %llu steps, %u steps per dispatch, %u CPU threads for -mt; "
                 "cpu-simd: %s\n",
                 device.c_str(), static_cast<unsigned long long>(steps_), fused_, cores,
@@ -137,6 +144,88 @@ class BenchCommand final : public Command {
   }
 
  private:
+  // A slab of n flow particles at rest on the ground, four layers deep on the rest lattice,
+  // hot and never cooling: every particle with its full set of neighbours (or a surface's).
+  static std::pair<Scene, State> flowSlab(const Scene& base, uint32_t n) {
+    Scene scene = base;
+    if (!scene.flow) scene.flow.emplace();
+    scene.flow->coolingAir = 0.0f;
+    scene.flow->coolingGround = 0.0f;
+    scene.emitters.resize(1);
+    Emitter& e = scene.emitters[0];
+    e.particles = n;
+    e.rate = 0.0;
+    e.burst = 0;
+    e.flow = true;
+    e.temperature = 0.0f;
+    const float s = 0.5f * scene.flow->radius;
+    e.mass = scene.flow->density * s * s * s;
+    checkScene(scene);
+    State state = initialState(scene);
+    const uint32_t side = uint32_t(std::ceil(std::sqrt(double(n) / 4.0)));
+    for (uint32_t i = 0; i < n; ++i) {
+      const float x = (float(i % side) - 0.5f * float(side)) * s;
+      const float z = (float(i / side % side) - 0.5f * float(side)) * s;
+      const float y = (0.5f + float(i / (side * side))) * s;
+      state.particles[i] = Particle{x, y, z, 1.0f, 0.0f, 0.0f, 0.0f, e.mass};
+      state.temperature[i] = scene.flow->temperature;
+    }
+    return {scene, state};
+  }
+
+  int runFlow(Device& context, const std::string& device, unsigned cores) {
+    const std::vector<uint32_t> sizes =
+        options_.given("sizes") ? sizes_ : std::vector<uint32_t>{4096, 16384};
+    std::printf("bench --flow: %s, %llu steps, %u CPU threads for cpu-mt\n", device.c_str(),
+                static_cast<unsigned long long>(steps_), cores);
+    std::printf("%-8s %10s %13s %9s %14s %14s %9s\n", "backend", "particles", "particle-st/s",
+                "pairs/st", "pairs/s", "ceiling pr/s", "x ceiling");
+    std::ostringstream json;
+    json << "{\n  \"device\": \"" << device << "\",\n  \"flow\": [\n";
+    bool first = true;
+    for (uint32_t n : sizes) {
+      const auto [scene, start] = flowSlab(scene_, n);
+      const FlowNeighbours neighbours = flowNeighbours(scene, start);
+      // Both neighbour passes visit every pair, per step.
+      const double pairs = 2.0 * double(neighbours.lists.size());
+      const auto row = [&](const char* backend, double seconds, double ceiling) {
+        const double steps = double(steps_);
+        const double pairsPerSecond = pairs * steps / seconds;
+        std::printf("%-8s %10u %13.4g %9.1f %14.4g %14.4g %9.3f\n", backend, n,
+                    double(n) * steps / seconds, pairs / double(n), pairsPerSecond, ceiling,
+                    pairsPerSecond / ceiling);
+        json << (first ? "" : ",\n") << "    {\"backend\": \"" << backend
+             << "\", \"particles\": " << n << ", \"particle_steps_per_second\": "
+             << double(n) * steps / seconds << ", \"pairs_per_second\": " << pairsPerSecond
+             << ", \"ceiling_pairs_per_second\": " << ceiling << "}";
+        first = false;
+      };
+      if (wants("gpu")) {
+        GpuSimulation sim(context, scene);
+        sim.setState(start);
+        sim.advance(std::min<uint64_t>(steps_, 16));  // warm-up
+        sim.setState(start);
+        const double seconds = sim.advanceTimed(steps_);
+        row("gpu", seconds, gpuFlowPairsPerSecond(context, scene, neighbours));
+      }
+      for (const auto& [name, threads] :
+           {std::pair<const char*, unsigned>{"cpu", 1u}, {"cpu-mt", cores}}) {
+        if (!wants(name)) continue;
+        CpuSimulation sim(scene, threads);
+        sim.setState(start);
+        const double seconds = secondsOf([&] { sim.advance(steps_); });
+        row(name, seconds, cpuFlowPairsPerSecond(scene, neighbours, threads));
+      }
+    }
+    std::printf(
+        "pairs/st: neighbour pairs each step visits (both passes, counted at the start); "
+        "ceiling: the density sum alone over neighbour lists made beforehand, on the same "
+        "device (no grid, no sort, one pass)\n");
+    json << "\n  ]\n}\n";
+    if (!json_.empty()) host::writeFileAtomically(json_, json.str());
+    return finish(context, 0);
+  }
+
   bool wants(const std::string& backend) const {
     return backends_.empty() ||
            std::find(backends_.begin(), backends_.end(), backend) != backends_.end();
@@ -274,6 +363,7 @@ class BenchCommand final : public Command {
   uint32_t fused_ = 256;
   std::vector<std::string> backends_;
   std::string json_;
+  bool flow_ = false;
   std::string simdTarget_;  // --simd-target ("": the best)
   std::map<std::string, double> computeCeilings_;  // per row kind
   Progress* progress_ = nullptr;                   // rows done, while run() runs

@@ -60,7 +60,8 @@ void DemoPanel::build(const char* device, const std::function<DemoFigures()>& fi
         }
         break;
       case ScenePanel::Change::Structure:
-        scene_.setMessage("emitters or their capacities changed: restart to apply");
+        scene_.setMessage("emitters, their capacities or the flow's emitters changed: restart to "
+                          "apply");
         break;
       case ScenePanel::Change::None:
         break;

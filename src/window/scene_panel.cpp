@@ -61,9 +61,12 @@ bool choose(const char* label, E& value, int count) {
 }  // namespace
 
 bool sameStructure(const Scene& a, const Scene& b) {
-  if (a.emitters.size() != b.emitters.size()) return false;
+  if (a.emitters.size() != b.emitters.size() || a.flow.has_value() != b.flow.has_value())
+    return false;
   for (size_t k = 0; k < a.emitters.size(); ++k)
-    if (a.emitters[k].particles != b.emitters[k].particles) return false;
+    if (a.emitters[k].particles != b.emitters[k].particles ||
+        a.emitters[k].flow != b.emitters[k].flow)
+      return false;
   return true;
 }
 
@@ -87,6 +90,15 @@ bool ScenePanel::emitters() {
       changed |= edit("spread (m/s)", e.spread, 0.02f);
       changed |= edit("mass (kg)", e.mass);
       changed |= edit("lifetime (s)", e.lifetime);
+      if (ImGui::Checkbox("flow (molten rock)", &e.flow)) {
+        changed = true;
+        if (e.flow && !edited_.flow) edited_.flow.emplace();
+        if (e.flow) {  // a flow particle's mass at the rest spacing, radius / 2
+          const float spacing = 0.5f * edited_.flow->radius;
+          e.mass = edited_.flow->density * spacing * spacing * spacing;
+        }
+      }
+      if (e.flow) changed |= edit("temperature (K, 0: the flow's)", e.temperature, 1.0f);
       if (edited_.emitters.size() > 1 && ImGui::SmallButton("remove emitter")) {
         edited_.emitters.erase(edited_.emitters.begin() + long(k));
         changed = true;
@@ -130,6 +142,34 @@ bool ScenePanel::forces() {
   }
   if (edited_.forces.size() < kMaxForces && ImGui::SmallButton("add force")) {
     edited_.forces.push_back(Force{});
+    changed = true;
+  }
+  return changed;
+}
+
+bool ScenePanel::flow() {
+  if (!edited_.flow) {
+    if (!ImGui::SmallButton("add a flow")) return false;
+    edited_.flow.emplace();
+    return true;
+  }
+  Flow& f = *edited_.flow;
+  bool changed = false;
+  changed |= edit("radius (m)", f.radius, 0.001f);
+  changed |= edit("density (kg/m3)", f.density, 10.0f);
+  changed |= edit("temperature (K)", f.temperature, 1.0f);
+  changed |= edit("viscosity (m2/s)", f.viscosity, 0.001f);
+  changed |= edit("viscosity at the solidus (m2/s)", f.viscositySolidus, 0.01f);
+  changed |= edit("solidus (K)", f.solidus, 1.0f);
+  changed |= edit("ambient (K)", f.ambient, 1.0f);
+  changed |= edit("cooling in the air (1/s)", f.coolingAir, 0.001f);
+  changed |= edit("cooling on the ground (1/s)", f.coolingGround, 0.01f);
+  changed |= edit("conduction (m2/s)", f.conduction, 0.0001f);
+  changed |= edit("sound speed (m/s)", f.soundSpeed, 0.1f);
+  changed |= edit("restitution", f.restitution);
+  if (ImGui::SmallButton("remove the flow")) {
+    edited_.flow.reset();
+    for (Emitter& e : edited_.emitters) e.flow = false;
     changed = true;
   }
   return changed;
@@ -201,6 +241,10 @@ ScenePanel::Change ScenePanel::draw(const Scene& running) {
   }
   if (ImGui::TreeNode("colliders")) {
     changed |= colliders();
+    ImGui::TreePop();
+  }
+  if (ImGui::TreeNode("flow")) {
+    changed |= flow();
     ImGui::TreePop();
   }
   char path[512];

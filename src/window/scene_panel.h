@@ -16,7 +16,7 @@ class ScenePanel {
   enum class Change {
     None,       // nothing edited this frame
     Live,       // parameters a running simulation takes (same emitters and capacities)
-    Structure,  // emitters or capacities changed: takes a restart
+    Structure,  // emitters, capacities or the flow's emitters changed: takes a restart
   };
   // Draws the editor inside the current ImGui window; says what the user changed.
   Change draw(const Scene& running);
@@ -29,14 +29,15 @@ class ScenePanel {
   bool emitters();
   bool forces();
   bool colliders();
+  bool flow();
 
   Scene edited_;
   std::string path_ = "scene.toml";
   std::string message_;
 };
 
-// Whether `a` and `b` have the same emitters with the same capacities (a running simulation
-// can switch between them).
+// Whether `a` and `b` have the same emitters with the same capacities, the same flow
+// emitters, and both a flow or neither (a running simulation can switch between them).
 bool sameStructure(const Scene& a, const Scene& b);
 
 }  // namespace lava::window

@@ -1,13 +1,18 @@
 // The ceilings of `lava bench`: a copy kernel moving the bytes of one unfused step, in
-// chunks of one allocation each like the simulation, and the same copy on the CPU; and the
-// CPU kernels' step alone on a block in L1.
+// chunks of one allocation each like the simulation, and the same copy on the CPU; the
+// CPU kernels' step alone on a block in L1; and the flow's density sum alone over
+// neighbour lists made beforehand (flow_pairs.comp on the GPU).
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <thread>
+#include <unordered_map>
 #include <vector>
 
+#include "flow.h"
 #include "lava/bench.h"
+#include "lava/error.h"
 #include "reference.h"
 #include "scene_params.h"
 #include "shared.h"
@@ -34,6 +39,16 @@ std::vector<std::pair<uint64_t, uint32_t>> chunkRanges(Device& device, uint64_t 
     ranges.emplace_back(first,
                         static_cast<uint32_t>(std::min<uint64_t>(perChunk, particles - first)));
   return ranges;
+}
+
+uint64_t cellKey(const detail::Cell& c) {
+  const auto axis = [](int32_t v) { return uint64_t(uint32_t(v + (1 << 20))) & 0x1fffff; };
+  return axis(c.x) | axis(c.y) << 21 | axis(c.z) << 42;
+}
+
+float invRadius(const Scene& scene) {
+  if (!scene.flow) throw InvalidArgument("scene", "has no [flow]: it has no neighbour pairs");
+  return 1.0f / scene.flow->radius;
 }
 
 }  // namespace
@@ -236,6 +251,132 @@ double gpuComputeUpdatesPerSecond(Device& device, const Scene& scene,
     if (pass >= 0) times.push_back(timer.seconds());
   }
   return double(particles) * double(steps) / median(times);
+}
+
+FlowNeighbours flowNeighbours(const Scene& scene, const State& state) {
+  const float inv = invRadius(scene);
+  FlowNeighbours out;
+  for (const detail::FlowRange& r : detail::flowRanges(scene))
+    for (uint64_t i = r.firstSlot; i < r.firstSlot + r.count; ++i)
+      if (!(state.particles[i].age < 0.0f)) out.particles.push_back(state.particles[i]);
+  std::unordered_map<uint64_t, std::vector<uint32_t>> cells;
+  std::vector<detail::Cell> cellOf(out.particles.size());
+  for (size_t i = 0; i < out.particles.size(); ++i) {
+    const Particle& p = out.particles[i];
+    cellOf[i] = detail::cellOf(p.px, p.py, p.pz, inv);
+    cells[cellKey(cellOf[i])].push_back(uint32_t(i));
+  }
+  const float inv2 = inv * inv;
+  out.starts.push_back(0);
+  for (size_t i = 0; i < out.particles.size(); ++i) {
+    const Particle& p = out.particles[i];
+    for (int32_t dz = -1; dz <= 1; ++dz)
+      for (int32_t dy = -1; dy <= 1; ++dy)
+        for (int32_t dx = -1; dx <= 1; ++dx) {
+          const detail::Cell c = cellOf[i];
+          const auto found = cells.find(cellKey({c.x + dx, c.y + dy, c.z + dz}));
+          if (found == cells.end()) continue;
+          for (uint32_t j : found->second) {
+            const Particle& o = out.particles[j];
+            const float x = p.px - o.px, y = p.py - o.py, z = p.pz - o.pz;
+            if (j != i && 1.0f - ((x * x + y * y) + z * z) * inv2 > detail::kPairCut)
+              out.lists.push_back(j);
+          }
+        }
+    out.starts.push_back(uint32_t(out.lists.size()));
+  }
+  return out;
+}
+
+double cpuFlowPairsPerSecond(const Scene& scene, const FlowNeighbours& n, unsigned threads,
+                             int passes) {
+  const float inv = invRadius(scene);
+  const size_t count = n.particles.size();
+  std::vector<float> sums(count);
+  const auto work = [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      const Particle& p = n.particles[i];
+      float theta = 0.0f;
+      for (uint32_t e = n.starts[i]; e < n.starts[i + 1]; ++e) {
+        const Particle& o = n.particles[n.lists[e]];
+        const float x = p.px - o.px, y = p.py - o.py, z = p.pz - o.pz;
+        const float q = (x * x + y * y) + z * z;
+        const float t = std::max(1.0f - std::sqrt(q) * inv, 0.0f);
+        theta += t * t * t;
+      }
+      sums[i] = theta;
+    }
+  };
+  std::vector<double> rates;
+  for (int pass = -1; pass < passes; ++pass) {  // pass -1 warms up
+    const auto begin = std::chrono::steady_clock::now();
+    std::vector<std::thread> workers;
+    for (unsigned t = 1; t < threads; ++t)
+      workers.emplace_back(work, count * t / threads, count * (t + 1) / threads);
+    work(0, count / std::max(threads, 1u));
+    for (std::thread& w : workers) w.join();
+    const double took =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+    if (pass >= 0) rates.push_back(double(n.lists.size()) / took);
+  }
+  return median(rates);
+}
+
+double gpuFlowPairsPerSecond(Device& device, const Scene& scene, const FlowNeighbours& n,
+                             int passes) {
+  const float inv = invRadius(scene);
+  const detail::DeviceContext& c = device.context();
+  const auto setLayout = detail::createSetLayout(
+      c,
+      {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+       VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+      VK_SHADER_STAGE_COMPUTE_BIT);
+  const auto layout = detail::createPipelineLayout(c, setLayout, VK_SHADER_STAGE_COMPUTE_BIT,
+                                                   2 * sizeof(glm::uvec4));
+  const auto pipeline = detail::createComputePipeline(c, layout, LAVA_SPIRV(spirv::kFlowPairsSpv),
+                                                      {gpu::kWorkgroupSize});
+  const auto upload = [&](const void* data, VkDeviceSize bytes) {
+    detail::Buffer b(c, std::max<VkDeviceSize>(bytes, 4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                     detail::MemoryUse::Upload);
+    if (bytes) std::memcpy(b.mapped(), data, bytes);
+    b.flush();
+    return b;
+  };
+  std::vector<glm::vec4> positions;
+  for (const Particle& p : n.particles) positions.emplace_back(p.px, p.py, p.pz, 0.0f);
+  const detail::Buffer pos = upload(positions.data(), positions.size() * sizeof(glm::vec4));
+  const detail::Buffer starts = upload(n.starts.data(), n.starts.size() * sizeof(uint32_t));
+  const detail::Buffer lists = upload(n.lists.data(), n.lists.size() * sizeof(uint32_t));
+  const detail::Buffer sums(c, std::max<VkDeviceSize>(positions.size() * sizeof(float), 4),
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, detail::MemoryUse::Device);
+  const detail::TimestampPair timer(c);
+  detail::DescriptorArena sets(c);
+  std::vector<double> rates;
+  const uint32_t count = uint32_t(n.particles.size());
+  for (int pass = -1; pass < passes; ++pass) {  // pass -1 warms up
+    sets.reset();
+    c.submitNow([&](VkCommandBuffer commands) {
+      // WAW: the previous pass wrote the sums.
+      detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                            VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                            VK_ACCESS_SHADER_WRITE_BIT);
+      timer.recordStart(commands);
+      c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+      detail::Descriptors()
+          .buffer(0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pos.get())
+          .buffer(1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, starts.get())
+          .buffer(2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, lists.get())
+          .buffer(3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sums.get())
+          .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, setLayout, sets);
+      const glm::uvec4 push[2] = {{count, 0u, 0u, 0u},
+                                  {glm::floatBitsToUint(inv), 0u, 0u, 0u}};
+      c.vk.CmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), push);
+      c.vk.CmdDispatch(commands, detail::groupCount(count, gpu::kWorkgroupSize), 1, 1);
+      timer.recordEnd(commands);
+    });
+    if (pass >= 0) rates.push_back(double(n.lists.size()) / timer.seconds());
+  }
+  return median(rates);
 }
 
 }  // namespace lava

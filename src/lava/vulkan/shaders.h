@@ -6,6 +6,7 @@
 namespace lava::spirv {
 #include "copy_comp.h"
 #include "flow_comp.h"
+#include "flow_pairs.h"
 #include "flow_plain.h"
 #include "flow_rte.h"
 #include "flow_signed_zero.h"
