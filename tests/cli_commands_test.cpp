@@ -167,6 +167,32 @@ TEST(Bench, FlowRowsHaveTheirPairsAndCeiling) {
   }
 }
 
+TEST(Render, StartsFromACheckpoint) {
+  // The flow's module scene simulated on the CPU, checkpointed, then drawn from there: the
+  // frame of the resumed state with no warm-up equals the frame of the straight run's.
+  const std::string ck = scratch("render-resume.npz"), a = scratch("resumed"),
+                    b = scratch("straight");
+  const std::string scene = std::string(LAVA_SOURCE_DIR) + "/scenes/modules/flow.toml";
+  ASSERT_EQ(lava("simulate --backend cpu --scene " + scene + " --steps 400 --checkpoint " + ck)
+                .status,
+            0);
+  Result r = lava("render --resume " + ck + " --warmup 0 --frames 1 --size 96x64 --out " + a);
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = lava("render --scene " + scene + " --warmup 0.4 --frames 1 --size 96x64 --out " + b);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(readFile(a + "/frame_00000.png"), readFile(b + "/frame_00000.png"));
+  r = lava("render --resume " + ck + " --scene " + scene + " --frames 1 --warmup 0 --out " + a);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--scene: not with --resume"), std::string::npos) << r.err;
+  r = lava("render --resume " + scene + " --frames 1 --warmup 0 --out " + a);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--resume"), std::string::npos) << r.err;
+  // simulate's --resume refuses --scene alike.
+  r = lava("simulate --resume " + ck + " --scene " + scene + " --steps 1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--resume"), std::string::npos) << r.err;
+}
+
 TEST(Render, VideoEncodesWithFfmpegOrSaysItIsMissing) {
   // Both branches in every run: ffmpeg missing from the PATH, and a stand-in ffmpeg that
   // records what it was given (no shell between: a quote in a path is just a character);

@@ -109,6 +109,7 @@ double renderFrames(Device& device, const Scene& scene, const FramePlan& plan) {
   run.fps = plan.fps;
   run.size = plan.size;
   run.warmup = plan.warmup;
+  run.start = plan.start;
   run.lines = plan.lines;
   run.style = plan.look.style;
   run.look = plan.look.settings;

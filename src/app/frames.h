@@ -3,11 +3,13 @@
 #pragma once
 #include <vulkan/vulkan.h>
 
+#include <optional>
 #include <string>
 
 #include "lava/device.h"
 #include "lava/renderer.h"
 #include "lava/scene.h"
+#include "lava/state.h"
 #include "paths.h"
 
 namespace lava::app {
@@ -26,6 +28,7 @@ struct FramePlan {
   double fps = 30.0;  // frames per simulated second
   VkExtent2D size{1280, 720};
   double warmup = 3.0;  // seconds simulated before the first frame
+  std::optional<State> start;  // --resume's state (none: the scene's initial)
   std::string folder;   // frame_00000.png ... go here
   LineMode lines = LineMode::Lines;
   LookOptions look;

@@ -100,6 +100,7 @@ void Options::addSceneFlags(Scene& scene, std::optional<unsigned>& device) {
 }
 
 bool Options::given(const std::string& name) const {
+  if (name == "scene") return command_.count("--scene") > 0;
   for (const Spec& s : specs_)
     if (s.name == name) return s.flag->count() > 0;
   for (const auto& [key, flag] : sceneFlags_)

@@ -16,6 +16,7 @@
 #include "host/output.h"
 #include "lava/device.h"
 #include "options.h"
+#include "resume.h"
 #include "runtime.h"
 #include "paths.h"
 
@@ -77,6 +78,10 @@ class RenderCommand final : public Command {
     options_.add(
         "size", "image size WxH, each 1..the device limit [1280x720]",
         [this](const std::string& src, const std::string& t) { plan_.size = parseSize(src, t); });
+    options_.add("resume",
+                 "start from the state a checkpoint FILE.npz holds (lava simulate "
+                 "--checkpoint), in its scene; --warmup seconds more before the first frame",
+                 [](const std::string&, const std::string&) {});  // read before resolve()
     options_.add("warmup", "seconds simulated before the first frame, 0..600 [3]",
                  [this](const std::string& src, const std::string& t) {
                    plan_.warmup = parseNumber(src, t, 0, 600);
@@ -105,7 +110,12 @@ class RenderCommand final : public Command {
   }
 
   int run() override {
+    std::optional<Snapshot> resumed = readResume(options_, scene_);
     options_.resolve();
+    if (resumed) {
+      checkResumedScene(scene_, resumed->scene);
+      plan_.start = std::move(resumed->state);
+    }
     Device device(deviceOptions(device_));
     renderFrames(device, scene_, plan_);
     std::printf("render: wrote %u frames (%ux%u) to %s/frame_*.png\n", plan_.frames,

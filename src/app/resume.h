@@ -1,4 +1,4 @@
-// --resume FILE.npz for simulate and validate: the checkpoint's scene as the base the flags
+// --resume FILE.npz for simulate, validate and render: the checkpoint's scene as the base the flags
 // change, and its state to start from.
 #pragma once
 #include <optional>

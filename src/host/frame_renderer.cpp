@@ -279,6 +279,7 @@ void renderFrames(Device& device, const Scene& scene, const FrameRun& run,
   const OffscreenTarget target(device, run.size);
   const Submitter submitter(device);
   OrbitCamera camera;
+  if (run.start) simulation.setState(*run.start);
   simulation.advance(scene.stepsIn(run.warmup));
   const double stepsPerFrame = 1.0 / (run.fps * double(scene.h()));
   common::StepAccumulator owed;

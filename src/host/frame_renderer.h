@@ -7,6 +7,7 @@
 // this path.
 #pragma once
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "lava/camera.h"
@@ -86,7 +87,8 @@ struct FrameRun {
   uint32_t frames = 1;
   double fps = 30.0;
   VkExtent2D size{1280, 720};
-  double warmup = 3.0;  // s
+  double warmup = 3.0;  // s, from `start`
+  std::optional<State> start;  // the state the run starts from (none: the scene's initial)
   LineMode lines = LineMode::Lines;
   LookStyle style = LookStyle::Lava;
   LookSettings look;
