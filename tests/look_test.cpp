@@ -123,6 +123,24 @@ class LookTest : public test::VulkanTest {
       }
     return out;
   }
+  // The volcano's cone at the origin; the ground direction from the camera through its axis,
+  // and across it.
+  static Scene coneScene() {
+    Scene scene;
+    Collider cone;
+    cone.type = ColliderType::Cone;
+    cone.baseRadius = 1.6f;
+    cone.topRadius = 0.4f;
+    cone.height = 1.4f;
+    scene.colliders = {cone};
+    return scene;
+  }
+  glm::vec3 awayFromCamera() const {
+    return glm::normalize(-glm::vec3(camera_.eye().x, 0.0f, camera_.eye().z));
+  }
+  glm::vec3 besideCone() const {
+    return glm::normalize(glm::cross(awayFromCamera(), glm::vec3(0.0f, 1.0f, 0.0f)));
+  }
   static double luminance(glm::ivec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
   glm::vec2 project(glm::vec3 p) const {
@@ -253,17 +271,9 @@ TEST_F(LookTest, SplatHidesWhatTheConeHides) {
   // A particle behind the volcano's cone, seen from the camera, is drawn by neither
   // renderer (the splat tests each line's ends against the scene's depth); the same
   // particle beside the cone is.
-  Scene scene;
-  Collider cone;
-  cone.type = ColliderType::Cone;
-  cone.baseRadius = 1.6f;
-  cone.topRadius = 0.4f;
-  cone.height = 1.4f;
-  scene.colliders = {cone};
+  Scene scene = coneScene();
   scene.lineScale = 0.04f;
-  const glm::vec3 eye(camera_.eye().x, 0.0f, camera_.eye().z);
-  const glm::vec3 away = glm::normalize(-eye);  // from the camera through the cone's axis
-  const glm::vec3 side = glm::normalize(glm::cross(away, glm::vec3(0.0f, 1.0f, 0.0f)));
+  const glm::vec3 away = awayFromCamera(), side = besideCone();
   const glm::vec3 behind = away * 2.2f + glm::vec3(0.0f, 0.3f, 0.0f);
   const glm::vec3 beside = side * 2.6f + glm::vec3(0.0f, 0.3f, 0.0f);
   const glm::vec3 v{0.6f, 0.0f, 0.3f};
@@ -320,16 +330,8 @@ TEST_F(LookTest, ASettledPoolHasNoHoles) {
 TEST_F(LookTest, TheConeHidesRockBehindIt) {
   // A molten pool behind the volcano's cone, seen from the camera, is hidden by it in both
   // renderers; the same pool beside the cone is drawn.
-  Scene scene;
-  Collider cone;
-  cone.type = ColliderType::Cone;
-  cone.baseRadius = 1.6f;
-  cone.topRadius = 0.4f;
-  cone.height = 1.4f;
-  scene.colliders = {cone};
-  const glm::vec3 eye(camera_.eye().x, 0.0f, camera_.eye().z);
-  const glm::vec3 away = glm::normalize(-eye);
-  const glm::vec3 side = glm::normalize(glm::cross(away, glm::vec3(0.0f, 1.0f, 0.0f)));
+  const Scene scene = coneScene();
+  const glm::vec3 away = awayFromCamera(), side = besideCone();
   for (LineMode mode : kModes) {
     SCOPED_TRACE(name(mode));
     const auto empty = renderRock(scene, {}, mode);

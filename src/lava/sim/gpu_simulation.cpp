@@ -128,23 +128,23 @@ std::vector<GroupRange> birthGroups(const ScheduleSlot& slot, const ParticleChun
   return merged;
 }
 
-// step.comp compiled with the float controls this device honours.
+// The one of a shader's four builds (both float controls, signed zeros only, RTE only,
+// neither) whose float controls this device honours.
+detail::Spirv withFloatControls(const detail::DeviceContext& c, detail::Spirv both,
+                                detail::Spirv signedZero, detail::Spirv rte, detail::Spirv plain) {
+  const bool zero = c.floatControls.shaderSignedZeroInfNanPreserveFloat32;
+  const bool even = c.floatControls.shaderRoundingModeRTEFloat32;
+  return zero && even ? both : zero ? signedZero : even ? rte : plain;
+}
+
 detail::Spirv stepShader(const detail::DeviceContext& c) {
-  const bool signedZero = c.floatControls.shaderSignedZeroInfNanPreserveFloat32;
-  const bool rte = c.floatControls.shaderRoundingModeRTEFloat32;
-  if (signedZero && rte) return LAVA_SPIRV(spirv::kStepCompSpv);
-  if (signedZero) return LAVA_SPIRV(spirv::kStepSignedZeroSpv);
-  if (rte) return LAVA_SPIRV(spirv::kStepRteSpv);
-  return LAVA_SPIRV(spirv::kStepPlainSpv);
+  return withFloatControls(c, LAVA_SPIRV(spirv::kStepCompSpv), LAVA_SPIRV(spirv::kStepSignedZeroSpv),
+                           LAVA_SPIRV(spirv::kStepRteSpv), LAVA_SPIRV(spirv::kStepPlainSpv));
 }
 
 detail::Spirv flowShader(const detail::DeviceContext& c) {
-  const bool signedZero = c.floatControls.shaderSignedZeroInfNanPreserveFloat32;
-  const bool rte = c.floatControls.shaderRoundingModeRTEFloat32;
-  if (signedZero && rte) return LAVA_SPIRV(spirv::kFlowCompSpv);
-  if (signedZero) return LAVA_SPIRV(spirv::kFlowSignedZeroSpv);
-  if (rte) return LAVA_SPIRV(spirv::kFlowRteSpv);
-  return LAVA_SPIRV(spirv::kFlowPlainSpv);
+  return withFloatControls(c, LAVA_SPIRV(spirv::kFlowCompSpv), LAVA_SPIRV(spirv::kFlowSignedZeroSpv),
+                           LAVA_SPIRV(spirv::kFlowRteSpv), LAVA_SPIRV(spirv::kFlowPlainSpv));
 }
 
 // The flow's own copy of its particles, their heat and its grid (flow.comp), for scenes with
