@@ -312,3 +312,29 @@ TEST(HostileInput, LimitsOfThisDeviceAreUsageErrors) {
 }
 
 }  // namespace
+
+namespace lava {
+namespace {
+
+TEST(ResourceLimits, AStateBeyondHostMemoryIsRefusedUpFront) {
+  // 2^31 particles need 128 GiB of host memory for a state and its copy: every backend
+  // refuses them before allocating, in one line naming the flag and the limit (the GPU's
+  // own limit first where it is lower), never "out of host memory" from a failed allocation.
+  for (const char* backend : {"cpu", "cpu-simd", "gpu"}) {
+    SCOPED_TRACE(backend);
+    const cli::Result r = cli::lava(std::string("simulate --steps 1 --particles 2147483648 "
+                                                "--backend ") + backend);
+    EXPECT_EQ(r.status, 2);
+    EXPECT_EQ(cli::count(r.err, "\n"), 1) << r.err;
+    EXPECT_EQ(r.err.rfind("lava: --particles: 2147483648 particles need ", 0), 0u) << r.err;
+    EXPECT_EQ(r.err.find("out of host memory"), std::string::npos) << r.err;
+    if (std::string(backend) != "gpu") {
+      EXPECT_NE(r.err.find("MiB of host memory for their state; this machine has "),
+                std::string::npos)
+          << r.err;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace lava

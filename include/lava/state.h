@@ -38,6 +38,11 @@ struct State {
 // Before the first step: every slot unborn (zero position and velocity, age -1, mass 0;
 // temperature 0, not crust).
 LAVA_API State initialState(const Scene& scene);
+// Throws InvalidArgument ("particles") when the scene's state, and one copy of it, would not
+// fit in the host memory still available (the kernel's estimate, or the control group's
+// limit): refused up front, never a failed allocation hours into a run. initialState() and
+// with it every backend's constructor check it.
+LAVA_API void checkHostMemory(const Scene& scene);
 
 // Throws InvalidArgument ("state: ...") unless `state` fits `scene`: as many particles as
 // its slots, one clock per emitter, each head inside its ring, and temperatures and crust

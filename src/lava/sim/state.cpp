@@ -1,5 +1,10 @@
 // States: the initial one, the check that a state fits a scene, and its hash.
+#include <unistd.h>
+
+#include <algorithm>
 #include <cstring>
+#include <fstream>
+#include <string>
 
 #include "common/hash.h"
 #include "lava/error.h"
@@ -7,7 +12,43 @@
 
 namespace lava {
 
+namespace {
+
+// The host memory this process may still take (bytes): the kernel's estimate of what can be
+// allocated without swapping, lowered to the control group's limit when one is set.
+uint64_t availableHostMemory() {
+  uint64_t available = uint64_t(sysconf(_SC_PHYS_PAGES)) * uint64_t(sysconf(_SC_PAGESIZE));
+  std::ifstream meminfo("/proc/meminfo");
+  for (std::string key; meminfo >> key;) {
+    uint64_t kib = 0;
+    meminfo >> kib;
+    if (key == "MemAvailable:") available = kib * 1024;
+    meminfo.ignore(256, '\n');
+  }
+  std::ifstream limit("/sys/fs/cgroup/memory.max");
+  uint64_t cap = 0;
+  if (limit >> cap && cap > 0) available = std::min(available, cap);
+  return available;
+}
+
+}  // namespace
+
+void checkHostMemory(const Scene& scene) {
+  // A state and one copy of it (what state() returns), each slot's particle and, with a
+  // flow, its temperature and crust flag.
+  const uint64_t perSlot = sizeof(Particle) + (scene.flow ? sizeof(float) + 1 : 0);
+  const uint64_t need = 2 * scene.particles() * perSlot;
+  const uint64_t available = availableHostMemory();
+  if (need > available)
+    throw InvalidArgument("particles", std::to_string(scene.particles()) + " particles need " +
+                                           std::to_string(need >> 20) +
+                                           " MiB of host memory for their state; this machine "
+                                           "has " +
+                                           std::to_string(available >> 20) + " MiB available");
+}
+
 State initialState(const Scene& scene) {
+  checkHostMemory(scene);
   State state;
   state.clocks.assign(scene.emitters.size(), EmitterClock{});
   state.particles.assign(scene.particles(), Particle{0, 0, 0, -1.0f, 0, 0, 0, 0});
