@@ -6,6 +6,7 @@
 // picks the first seed); a failure names its seed and the TOML to keep.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -194,6 +195,90 @@ TEST(Property, RandomValidScenesRunExactlyThroughTheProgram) {
       return;
     }
   }
+}
+
+}  // namespace
+}  // namespace lava
+
+namespace lava {
+namespace {
+
+// One to eight edits of `data`: a byte changed, a run deleted, bytes that mean something in
+// TOML or numbers inserted, or the end cut off.
+std::string mutate(std::string data, std::mt19937& rng) {
+  static const char* const kPieces[] = {"0", "9", "-", ".", "e", "e9", "1e38", "=", "[", "]",
+                                        "\n", "\"", "#", "particles = ", "flow = true", "nan"};
+  const uint32_t edits = 1 + uint32_t(rng() % 8);
+  for (uint32_t k = 0; k < edits && !data.empty(); ++k) {
+    const size_t at = rng() % data.size();
+    switch (rng() % 4) {
+      case 0:
+        data[at] = char(rng() % 256);
+        break;
+      case 1:
+        data.erase(at, 1 + rng() % 16);
+        break;
+      case 2:
+        data.insert(at, kPieces[rng() % (sizeof(kPieces) / sizeof(kPieces[0]))]);
+        break;
+      default:
+        data.resize(at);
+        break;
+    }
+  }
+  return data;
+}
+
+TEST(MutatedFiles, ExitZeroOneOrTwoWithOneLineAndNoPartialOutput) {
+  // Mutants of the presets, the module scenes and the corpus's checkpoints, through
+  // `lava simulate` with --out (and --checkpoint when resuming): exit 0, 1 or 2 within the
+  // time limit, never a signal; on failure one line and nothing left in the output folder
+  // (no partial file, no temporary); on success exactly the files asked for.
+  // LAVA_MUTANTS=N runs N instead of CI's 24.
+  const std::string source = LAVA_SOURCE_DIR;
+  std::vector<std::string> bases;
+  for (const char* folder : {"/scenes", "/scenes/modules", "/fuzz/corpus/checkpoint"})
+    for (const auto& entry : std::filesystem::directory_iterator(source + folder))
+      if (entry.is_regular_file()) bases.push_back(entry.path().string());
+  std::sort(bases.begin(), bases.end());
+  const char* count = std::getenv("LAVA_MUTANTS");
+  const uint32_t mutants = count ? uint32_t(std::strtoul(count, nullptr, 10)) : 24;
+  std::mt19937 rng(424242);
+  uint32_t exits[3] = {0, 0, 0};
+  for (uint32_t i = 0; i < mutants; ++i) {
+    const std::string& base = bases[rng() % bases.size()];
+    const bool checkpoint = base.size() > 4 && base.substr(base.size() - 4) == ".npz";
+    const std::string file = cli::writeScene(
+        "mutant-" + std::to_string(i) + (checkpoint ? ".npz" : ".toml"), mutate(readFile(base), rng));
+    const std::string out = scratch("mutant-" + std::to_string(i) + "-out");
+    std::filesystem::remove_all(out);
+    std::filesystem::create_directories(out);
+    SCOPED_TRACE(file + " (from " + base + ")");
+    const cli::Result r =
+        cli::run("timeout 120 " + std::string(LAVA_EXE) + " simulate --steps 20 --out " + out +
+                 "/state.npy " +
+                 (checkpoint ? "--resume " + file + " --checkpoint " + out + "/next.npz"
+                             : "--scene " + file));
+    ASSERT_TRUE(r.status == 0 || r.status == 1 || r.status == 2)
+        << "exit " << r.status << " (124: the time limit; 128+: a signal)\n" << r.err;
+    ++exits[r.status];
+    std::vector<std::string> left;
+    for (const auto& entry : std::filesystem::directory_iterator(out))
+      left.push_back(entry.path().filename().string());
+    std::sort(left.begin(), left.end());
+    if (r.status == 0) {
+      const std::vector<std::string> asked =
+          checkpoint ? std::vector<std::string>{"next.npz", "state.npy"}
+                     : std::vector<std::string>{"state.npy"};
+      EXPECT_EQ(left, asked);
+    } else {
+      EXPECT_EQ(cli::count(r.err, "\n"), 1) << r.err;
+      EXPECT_EQ(r.err.rfind("lava: ", 0), 0u) << r.err;
+      EXPECT_TRUE(left.empty()) << left.front();
+    }
+  }
+  std::printf("mutants: %u ran (exit 0), %u failed at run time (1), %u refused (2)\n", exits[0],
+              exits[1], exits[2]);
 }
 
 }  // namespace
