@@ -8,6 +8,7 @@
 #include "lava/lava.h"
 #include "lava/validation.h"
 #include "test_scenes.h"
+#include "vulkan/device_context.h"
 #include "vulkan_test.h"
 
 namespace lava {
@@ -135,6 +136,35 @@ TEST_F(GpuFlow, SparksBesideAFlowAreUntouched) {
   const uint32_t sparks = withFlow.emitters[0].particles;
   EXPECT_EQ(std::memcmp(sa.particles.data(), sb.particles.data(), sparks * sizeof(Particle)), 0);
   for (uint32_t i = 0; i < sparks; ++i) ASSERT_EQ(sa.temperature[i], 0.0f) << i;
+}
+
+}  // namespace
+}  // namespace lava
+
+namespace lava {
+namespace {
+
+TEST_F(GpuFlow, AFlowBeyondOneBindingIsRefusedUpFront) {
+  // The flow's per-slot results are one binding (48 bytes a slot): a flow past the device's
+  // binding range is refused when the simulation is made, naming the particles and the limit.
+  const auto& c = device().context();
+  const uint64_t range = std::min<uint64_t>(c.limits.maxStorageBufferRange, c.maxAllocation);
+  Scene s;
+  s.flow.emplace();
+  Emitter& e = s.emitters[0];
+  e.particles = static_cast<uint32_t>(range / 48 + 64);
+  e.flow = true;
+  e.mass = s.flow->density * 0.03f * 0.03f * 0.03f;
+  try {
+    GpuSimulation gpu(device(), s);
+    ADD_FAILURE() << e.particles << " flow slots were accepted";
+  } catch (const InvalidArgument& error) {
+    EXPECT_EQ(error.parameter(), "particles");
+    EXPECT_NE(std::string(error.what()).find("the flow's " + std::to_string(e.particles) +
+                                             " slots need a "),
+              std::string::npos)
+        << error.what();
+  }
 }
 
 }  // namespace

@@ -356,6 +356,21 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
   m.pipelineLayout = detail::createPipelineLayout(c, m.setLayout, VK_SHADER_STAGE_COMPUTE_BIT,
                                                   sizeof(gpu::StepParams));
   if (scene.flows()) {
+    // The flow's buffers are one binding each, its passes one dispatch each: within the
+    // device's binding range, allocation and workgroup count, or refused now.
+    const gpu::FlowParams fp = detail::flowParams(scene);
+    const uint64_t slots = fp.sizes.y, buckets = fp.sizes.x;
+    const uint64_t binding = std::max(slots * sizeof(gpu::FlowNext), (2 * buckets + 1 + slots) * 4);
+    const uint64_t groups = std::max(slots, buckets) / gpu::kWorkgroupSize + 1;
+    const uint64_t range = std::min<uint64_t>(c.limits.maxStorageBufferRange, c.maxAllocation);
+    if (binding > range || groups > c.limits.maxComputeWorkGroupCount[0])
+      throw InvalidArgument("particles", "the flow's " + std::to_string(slots) +
+                                             " slots need a " + std::to_string(binding >> 20) +
+                                             " MiB binding and " + std::to_string(groups) +
+                                             " workgroups; device '" + c.properties.deviceName +
+                                             "' allows " + std::to_string(range >> 20) +
+                                             " MiB and " +
+                                             std::to_string(c.limits.maxComputeWorkGroupCount[0]));
     m.flow = std::make_unique<FlowState>(c, scene);
     m.flowPipeline(scene);
   }
