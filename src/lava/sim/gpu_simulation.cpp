@@ -128,6 +128,18 @@ std::vector<GroupRange> birthGroups(const ScheduleSlot& slot, const ParticleChun
   return merged;
 }
 
+// Compute reads and writes after every earlier write (compute, transfer) and read (draws,
+// copies) of the same buffers.
+void beforeCompute(const detail::DeviceContext& c, VkCommandBuffer commands) {
+  detail::memoryBarrier(c, commands,
+                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+                            VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+                            VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                        VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+}
+
 // The one of a shader's four builds (both float controls, signed zeros only, RTE only,
 // neither) whose float controls this device honours.
 detail::Spirv withFloatControls(const detail::DeviceContext& c, detail::Spirv both,
@@ -512,13 +524,7 @@ void GpuSimulation::Impl::record(const Scene& scene, VkCommandBuffer commands, u
       ++steps;
     // RAW/WAW: an earlier dispatch or upload wrote the particles this one reads and writes;
     // WAR: a draw, splat, or read-back copy read them.
-    detail::memoryBarrier(c, commands,
-                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
-                              VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
-                              VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
-                          VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    beforeCompute(c, commands);
     params.run.x = done;
     params.run.y = steps;
     for (const ParticleChunk& chunk : chunks) {
@@ -573,15 +579,7 @@ void GpuSimulation::Impl::recordFlow(const Scene& scene, VkCommandBuffer command
                                      ScheduleSlot& slot) {
   // RAW/WAR: an upload or an earlier pass wrote, or a copy into the chunks or a draw read,
   // the flow's buffers.
-  const auto barrier = [&] {
-    detail::memoryBarrier(c, commands,
-                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
-                              VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
-                              VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
-                          VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-  };
+  const auto barrier = [&] { beforeCompute(c, commands); };
   barrier();
   c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, flowPipeline(scene));
   const FlowState& f = *flow;
