@@ -286,9 +286,11 @@ TEST_P(Modules, ResumeFromACheckpointBitForBit) {
                             got.particles.size() * sizeof(Particle)),
                 0);
       ASSERT_EQ(got.temperature.size(), expected.temperature.size());  // a flow's heat
-      EXPECT_EQ(std::memcmp(got.temperature.data(), expected.temperature.data(),
-                            got.temperature.size() * sizeof(float)),
-                0);
+      if (!got.temperature.empty()) {  // (memcmp must not be given a null pointer)
+        EXPECT_EQ(std::memcmp(got.temperature.data(), expected.temperature.data(),
+                              got.temperature.size() * sizeof(float)),
+                  0);
+      }
       EXPECT_EQ(got.crust, expected.crust);
       EXPECT_EQ(got.step, expected.step);
       for (size_t k = 0; k < got.clocks.size(); ++k) {

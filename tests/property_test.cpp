@@ -103,7 +103,7 @@ std::vector<float> npyFloats(const std::string& data, size_t& columns) {
   columns = shape == std::string::npos ? 0 : std::stoul(data.substr(comma + 2));
   const size_t header = data.find('\n') + 1;
   std::vector<float> out((data.size() - header) / 4);
-  std::memcpy(out.data(), data.data() + header, out.size() * 4);
+  if (!out.empty()) std::memcpy(out.data(), data.data() + header, out.size() * 4);
   return out;
 }
 
