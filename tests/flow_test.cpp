@@ -14,82 +14,18 @@
 #include "lava/scene.h"
 #include "lava/simulation.h"
 #include "scene/keys.h"
+#include "flow_pool.h"
 #include "sim/flow.h"
 
 namespace lava {
 namespace {
 
-// A pool of `n` flow particles released at rest from a box above the ground at `x`, with
-// no cooling unless a test asks for it.
-Scene poolScene(uint32_t n, float x = 0.0f) {
-  Scene s;
-  s.flow.emplace();
-  s.flow->coolingAir = 0.0f;
-  s.flow->coolingGround = 0.0f;
-  Emitter& e = s.emitters[0];
-  e.particles = n;
-  e.rate = 0.0;
-  e.burst = n;
-  e.shape = Shape::Box;
-  const float side = 0.5f * std::cbrt(float(n) * 2.7e-5f);  // n particles spaced 3 cm
-  e.size = {side, side, side};
-  e.position = {x, side + 0.01f, 0.0f};
-  e.velocity = {0.0f, 0.0f, 0.0f};
-  e.spread = {0.0f, 0.0f, 0.0f};
-  e.flow = true;
-  e.mass = detail::defaultFlowMass(*s.flow);
-  return s;
-}
+using test::expectSound;
+using test::meanX;
+using test::poolScene;
 
-double kineticEnergy(const State& state) {
-  double e = 0.0;
-  for (const Particle& p : state.particles)
-    if (!(p.age < 0.0f)) e += 0.5 * p.mass * (double(p.vx) * p.vx + double(p.vy) * p.vy +
-                                              double(p.vz) * p.vz);
-  return e;
-}
-
-// The horizontal distance from the pool's centre within which 90% of it lies.
-double spread(const State& state) {
-  double cx = 0.0, cz = 0.0;
-  size_t n = 0;
-  for (const Particle& p : state.particles)
-    if (!(p.age < 0.0f)) cx += p.px, cz += p.pz, ++n;
-  cx /= double(n), cz /= double(n);
-  std::vector<double> r;
-  for (const Particle& p : state.particles)
-    if (!(p.age < 0.0f)) r.push_back(std::hypot(p.px - cx, p.pz - cz));
-  std::sort(r.begin(), r.end());
-  return r[r.size() * 9 / 10];
-}
-
-double meanX(const State& state) {
-  double x = 0.0;
-  for (const Particle& p : state.particles) x += p.px;
-  return x / double(state.particles.size());
-}
-
-double medianNearest(const State& state) {
-  std::vector<double> nearest;
-  for (const Particle& a : state.particles) {
-    double best = 1e30;
-    for (const Particle& b : state.particles)
-      if (&a != &b)
-        best = std::min(best, std::hypot(double(a.px) - b.px, double(a.py) - b.py,
-                                         double(a.pz) - b.pz));
-    nearest.push_back(best);
-  }
-  std::sort(nearest.begin(), nearest.end());
-  return nearest[nearest.size() / 2];
-}
-
-void expectSound(const State& state) {
-  for (size_t i = 0; i < state.particles.size(); ++i) {
-    const Particle& p = state.particles[i];
-    for (float f : {p.px, p.py, p.pz, p.vx, p.vy, p.vz, p.age, state.temperature[i]})
-      ASSERT_TRUE(std::isfinite(f)) << "slot " << i;
-    ASSERT_GE(p.py, 0.0f) << "slot " << i << " is below the ground";
-  }
+std::unique_ptr<Simulation> cpuReference(const Scene& s) {
+  return std::make_unique<CpuSimulation>(s, 1);
 }
 
 TEST(FlowKeys, TheTableAndTheEmitterKeysReadBack) {
@@ -243,33 +179,7 @@ TEST(FlowState, TheSimdKernelGivesTheReferenceBytes) {
 }
 
 TEST(FlowPhysics, APoolReleasedAtRestSpreadsSettlesAndNeverGainsEnergy) {
-  const Scene s = poolScene(500);
-  CpuSimulation cpu(s, 1);
-  cpu.advance(50);
-  const double start = spread(cpu.state());
-  cpu.advance(950);
-  EXPECT_GT(spread(cpu.state()), 1.5 * start) << "it spreads";
-  // Once the collapse is over, the energy only falls, to exactly 0: the pool stops.
-  double last = kineticEnergy(cpu.state());
-  uint64_t settled = 0;
-  for (uint64_t second = 2; second <= 12 && !settled; ++second) {
-    cpu.advance(1000);
-    const double e = kineticEnergy(cpu.state());
-    ASSERT_LE(e, last) << "after " << second << " s";
-    if (e == 0.0) settled = second;
-    last = e;
-  }
-  ASSERT_NE(settled, 0u) << "the pool still moves after 12 s: " << last << " J";
-  const State rest = cpu.state();
-  for (int k = 0; k < 100; ++k) {  // and never moves again
-    cpu.advance(10);
-    ASSERT_EQ(kineticEnergy(cpu.state()), 0.0) << (k + 1) * 10 << " steps after " << settled
-                                                << " s";
-  }
-  expectSound(rest);
-  const double nearest = medianNearest(rest);
-  EXPECT_GT(nearest, 0.25 * s.flow->radius);
-  EXPECT_LT(nearest, s.flow->radius);
+  test::expectPoolSpreadsAndSettles(cpuReference);
 }
 
 TEST(FlowPhysics, OnAPlaneTiltedTwentyDegreesThePoolRunsDownhill) {
@@ -290,25 +200,16 @@ TEST(FlowPhysics, OnAPlaneTiltedTwentyDegreesThePoolRunsDownhill) {
   EXPECT_GT(meanX(after), before + 0.02) << "it runs downhill (+x)";
 }
 
-double spreadAfter(Scene s, uint64_t steps) {
-  CpuSimulation cpu(s, 1);
-  cpu.advance(steps);
-  expectSound(cpu.state());
-  return spread(cpu.state());
-}
-
 TEST(FlowPhysics, TheLessViscousPoolSpreadsFurther) {
   Scene thin = poolScene(500), thick = poolScene(500);
   thin.flow->viscosity = 0.01f;
   thick.flow->viscosity = 1.0f;
-  EXPECT_GT(spreadAfter(thin, 1000), 1.1 * spreadAfter(thick, 1000));
+  EXPECT_GT(test::spreadAfter(cpuReference, thin, 1000),
+            1.1 * test::spreadAfter(cpuReference, thick, 1000));
 }
 
 TEST(FlowPhysics, AHotterPoolRunsFurtherThanACoolerOne) {
-  Scene hot = poolScene(500), cool = poolScene(500);
-  hot.emitters[0].temperature = 1400.0f;
-  cool.emitters[0].temperature = 1050.0f;  // above the solidus, far more viscous
-  EXPECT_GT(spreadAfter(hot, 1000), 1.1 * spreadAfter(cool, 1000));
+  test::expectHotterPoolRunsFurther(cpuReference);
 }
 
 TEST(FlowPhysics, CrustStopsExactlyAndNeverMovesAgain) {
@@ -341,23 +242,7 @@ TEST(FlowPhysics, CrustStopsExactlyAndNeverMovesAgain) {
 }
 
 TEST(FlowPhysics, NoParticleEndsInsideACollider) {
-  Scene s = poolScene(500);
-  s.emitters[0].position.y += 0.5f;  // falls onto a sphere
-  Collider ball;
-  ball.type = ColliderType::Sphere;
-  ball.position = {0.05f, 0.2f, 0.0f};
-  ball.radius = 0.2f;
-  s.colliders.push_back(ball);
-  CpuSimulation cpu(s, 1);
-  for (int k = 0; k < 10; ++k) {
-    cpu.advance(100);
-    const State state = cpu.state();
-    expectSound(state);
-    for (const Particle& p : state.particles) {
-      const float dx = p.px - 0.05f, dy = p.py - 0.2f, dz = p.pz;
-      ASSERT_GE(dx * dx + dy * dy + dz * dz, 0.2f * 0.2f * (1.0f - 1e-5f));
-    }
-  }
+  test::expectNoParticleInsideTheSphere(cpuReference);
 }
 
 }  // namespace

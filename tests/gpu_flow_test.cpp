@@ -1,11 +1,13 @@
 // The flow on the Vulkan backend (shaders/flow.comp) against the CPU reference on lavapipe:
 // the same bits for the particles, temperatures and crust flags, across chunks and live edits;
-// the sparks beside a flow untouched. The module scene "flow" runs in the Modules tests too.
+// the sparks beside a flow untouched; the pool's physics checks on lavapipe itself. The module
+// scene "flow" runs in the Modules tests too.
 #include <gtest/gtest.h>
 
 #include <cstring>
 
 #include "lava/lava.h"
+#include "flow_pool.h"
 #include "lava/validation.h"
 #include "test_scenes.h"
 #include "vulkan/device_context.h"
@@ -92,6 +94,29 @@ TEST_F(GpuFlow, AReleasedPoolOnATiltedPlaneIsBitIdenticalToTheCpu) {
     before = now;
   }
   EXPECT_GT(crusted(before), 0u);  // it cooled on the plane into crust
+}
+
+// The CPU reference's pool checks (flow_pool.h, FlowPhysics.*) on lavapipe itself, with pools
+// of 216 rather than 500: lavapipe takes about 10 us a particle-step on them.
+constexpr uint32_t kPool = 216;
+
+TEST_F(GpuFlow, APoolReleasedAtRestSpreadsSettlesAndNeverGainsEnergy) {
+  const auto [settled, steps] = test::expectPoolSpreadsAndSettles(
+      [&](const Scene& s) { return std::make_unique<GpuSimulation>(device(), s); }, kPool);
+  const Scene s = test::poolScene(kPool);
+  CpuSimulation cpu(s, 2);
+  cpu.advance(steps);
+  expectSameState(s, settled, cpu.state());
+}
+
+TEST_F(GpuFlow, AHotterPoolRunsFurtherThanACoolerOne) {
+  test::expectHotterPoolRunsFurther(
+      [&](const Scene& s) { return std::make_unique<GpuSimulation>(device(), s); }, kPool);
+}
+
+TEST_F(GpuFlow, NoParticleEndsInsideACollider) {
+  test::expectNoParticleInsideTheSphere(
+      [&](const Scene& s) { return std::make_unique<GpuSimulation>(device(), s); }, kPool);
 }
 
 TEST_F(GpuFlow, FlowSlotsAcrossChunksAndLiveEditsStayBitIdentical) {

@@ -25,9 +25,9 @@ cmake --build build-asan -j2
 # The groups of the tests that load no Vulkan.
 novulkan='Random|Physics|Emission|StateIo|Compare|Integrators|Forces|Colliders|Denormals|SceneKeys|SceneToml|Spirv|Simd|Effects/SimdModules|FlowKeys|FlowState|FlowPhysics'
 ctest --test-dir build-asan --output-on-failure -j2 -R "^($novulkan)\\."
-# The flow's two longest GPU runs (lavapipe's time, not the host's) are left to the plain
-# suite: its other GPU tests take the same host code (its buffers, passes and read-backs).
-longFlow='^Effects/Modules\\.AreBitIdenticalToTheCpuReference/flow |^GpuFlow\\.FlowSlotsAcross'
+# The flow's longest GPU runs (lavapipe's time, not the host's) are left to the plain suite:
+# its other GPU tests take the same host code (its buffers, passes and read-backs).
+longFlow='^Effects/Modules\\.AreBitIdenticalToTheCpuReference/flow |^GpuFlow\\.(FlowSlotsAcross|APool|AHotter)'
 ASAN_OPTIONS=detect_leaks=0 ctest --test-dir build-asan --output-on-failure -j2 -LE program \
       -E "^(Drivers|$novulkan)\\.|^GpuTest\\.SoakOfAMillionSteps|$longFlow"
 icd=$(sed -n 's/.*"library_path": *"\([^"]*\)".*/\1/p' \

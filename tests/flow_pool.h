@@ -1,0 +1,178 @@
+// A pool of flow and the checks of how it behaves (docs/model.md, "The flow"), shared by the
+// CPU reference's tests (flow_test.cpp) and lavapipe's (gpu_flow_test.cpp): each check takes
+// a maker of the simulation under test.
+#pragma once
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "lava/scene.h"
+#include "lava/simulation.h"
+#include "scene/keys.h"
+
+namespace lava::test {
+
+using MakeSimulation = std::function<std::unique_ptr<Simulation>(const Scene&)>;
+
+// A pool of `n` flow particles released at rest from a box above the ground at `x`, with
+// no cooling unless a test asks for it.
+inline Scene poolScene(uint32_t n, float x = 0.0f) {
+  Scene s;
+  s.flow.emplace();
+  s.flow->coolingAir = 0.0f;
+  s.flow->coolingGround = 0.0f;
+  Emitter& e = s.emitters[0];
+  e.particles = n;
+  e.rate = 0.0;
+  e.burst = n;
+  e.shape = Shape::Box;
+  const float side = 0.5f * std::cbrt(float(n) * 2.7e-5f);  // n particles spaced 3 cm
+  e.size = {side, side, side};
+  e.position = {x, side + 0.01f, 0.0f};
+  e.velocity = {0.0f, 0.0f, 0.0f};
+  e.spread = {0.0f, 0.0f, 0.0f};
+  e.flow = true;
+  e.mass = detail::defaultFlowMass(*s.flow);
+  return s;
+}
+
+inline double kineticEnergy(const State& state) {
+  double e = 0.0;
+  for (const Particle& p : state.particles)
+    if (!(p.age < 0.0f)) e += 0.5 * p.mass * (double(p.vx) * p.vx + double(p.vy) * p.vy +
+                                              double(p.vz) * p.vz);
+  return e;
+}
+
+// Kinetic energy and the potential energy of gravity above the ground, J.
+inline double mechanicalEnergy(const State& state, float gravity) {
+  double e = kineticEnergy(state);
+  for (const Particle& p : state.particles)
+    if (!(p.age < 0.0f)) e += double(p.mass) * gravity * p.py;
+  return e;
+}
+
+// The horizontal distance from the pool's centre within which 90% of it lies.
+inline double spread(const State& state) {
+  double cx = 0.0, cz = 0.0;
+  size_t n = 0;
+  for (const Particle& p : state.particles)
+    if (!(p.age < 0.0f)) cx += p.px, cz += p.pz, ++n;
+  cx /= double(n), cz /= double(n);
+  std::vector<double> r;
+  for (const Particle& p : state.particles)
+    if (!(p.age < 0.0f)) r.push_back(std::hypot(p.px - cx, p.pz - cz));
+  std::sort(r.begin(), r.end());
+  return r[r.size() * 9 / 10];
+}
+
+inline double meanX(const State& state) {
+  double x = 0.0;
+  for (const Particle& p : state.particles) x += p.px;
+  return x / double(state.particles.size());
+}
+
+inline double medianNearest(const State& state) {
+  std::vector<double> nearest;
+  for (const Particle& a : state.particles) {
+    double best = 1e30;
+    for (const Particle& b : state.particles)
+      if (&a != &b)
+        best = std::min(best, std::hypot(double(a.px) - b.px, double(a.py) - b.py,
+                                         double(a.pz) - b.pz));
+    nearest.push_back(best);
+  }
+  std::sort(nearest.begin(), nearest.end());
+  return nearest[nearest.size() / 2];
+}
+
+inline void expectSound(const State& state) {
+  for (size_t i = 0; i < state.particles.size(); ++i) {
+    const Particle& p = state.particles[i];
+    for (float f : {p.px, p.py, p.pz, p.vx, p.vy, p.vz, p.age, state.temperature[i]})
+      ASSERT_TRUE(std::isfinite(f)) << "slot " << i;
+    ASSERT_GE(p.py, 0.0f) << "slot " << i << " is below the ground";
+  }
+}
+
+// A pool released at rest spreads. Once its collapse is over, its energy (kinetic plus
+// gravity's) falls at every look, a quarter second apart, until it stops: kinetic energy
+// exactly 0, and 0 from then on. Returns the state at the end and its step count.
+inline std::pair<State, uint64_t> expectPoolSpreadsAndSettles(const MakeSimulation& make,
+                                                              uint32_t n = 500) {
+  const Scene s = poolScene(n);
+  const std::unique_ptr<Simulation> sim = make(s);
+  sim->advance(50);
+  uint64_t steps = 50;
+  const double start = spread(sim->state());
+  sim->advance(950);
+  steps += 950;
+  EXPECT_GT(spread(sim->state()), 1.5 * start) << "it spreads";
+  double lastE = 0.0, lastM = mechanicalEnergy(sim->state(), s.gravity);
+  uint64_t settled = 0;
+  while (steps < 12000 && !settled) {
+    sim->advance(250);
+    steps += 250;
+    const State now = sim->state();
+    const double e = kineticEnergy(now), m = mechanicalEnergy(now, s.gravity);
+    EXPECT_LT(m, lastM) << "after " << steps << " steps";
+    if (e == 0.0) settled = steps;
+    lastE = e;
+    lastM = m;
+  }
+  EXPECT_NE(settled, 0u) << "the pool still moves after 12 s: " << lastE << " J";
+  const State rest = sim->state();
+  for (int k = 0; k < 20 && settled; ++k) {  // and never moves again
+    sim->advance(50);
+    steps += 50;
+    EXPECT_EQ(kineticEnergy(sim->state()), 0.0) << steps - settled << " steps after it settled";
+  }
+  expectSound(rest);
+  const double nearest = medianNearest(rest);
+  EXPECT_GT(nearest, 0.25 * s.flow->radius);
+  EXPECT_LT(nearest, s.flow->radius);
+  return {sim->state(), steps};
+}
+
+inline double spreadAfter(const MakeSimulation& make, const Scene& s, uint64_t steps) {
+  const std::unique_ptr<Simulation> sim = make(s);
+  sim->advance(steps);
+  const State state = sim->state();
+  expectSound(state);
+  return spread(state);
+}
+
+// A hotter pool, less viscous, runs further than a cooler one in the same second.
+inline void expectHotterPoolRunsFurther(const MakeSimulation& make, uint32_t n = 500) {
+  Scene hot = poolScene(n), cool = poolScene(n);
+  hot.emitters[0].temperature = 1400.0f;
+  cool.emitters[0].temperature = 1050.0f;  // above the solidus, far more viscous
+  EXPECT_GT(spreadAfter(make, hot, 1000), 1.1 * spreadAfter(make, cool, 1000));
+}
+
+// A pool poured onto a sphere never has a particle inside it, nor below the ground.
+inline void expectNoParticleInsideTheSphere(const MakeSimulation& make, uint32_t n = 500) {
+  Scene s = poolScene(n);
+  s.emitters[0].position.y += 0.5f;  // falls onto a sphere
+  Collider ball;
+  ball.type = ColliderType::Sphere;
+  ball.position = {0.05f, 0.2f, 0.0f};
+  ball.radius = 0.2f;
+  s.colliders.push_back(ball);
+  const std::unique_ptr<Simulation> sim = make(s);
+  for (int k = 0; k < 10; ++k) {
+    sim->advance(100);
+    const State state = sim->state();
+    expectSound(state);
+    for (const Particle& p : state.particles) {
+      const float dx = p.px - 0.05f, dy = p.py - 0.2f, dz = p.pz;
+      ASSERT_GE(dx * dx + dy * dy + dz * dz, 0.2f * 0.2f * (1.0f - 1e-5f));
+    }
+  }
+}
+
+}  // namespace lava::test
