@@ -109,16 +109,22 @@ FlowConstants flowConstants(const Scene& scene) {
   return k;
 }
 
-FlowWeights flowWeights(const Scene& scene, size_t emitter) {
-  const Emitter& e = scene.emitters[emitter];
-  if (!e.flow) return {};
+std::vector<FlowWeights> flowWeights(const Scene& scene) {
+  std::vector<FlowWeights> weights(scene.emitters.size());
+  if (!scene.flow) return weights;
   const Flow& f = *scene.flow;
-  const double radius = f.radius, v = double(e.mass) / f.density, v0 = restVolume(scene);
-  const double r2 = radius * radius;
-  const double density = v / (v0 * latticeSum(std::cbrt(v0), radius));
-  return {float(density), float(3.0 * density / radius),
-          float(double(scene.h()) * v * 945.0 / (32.0 * kPi * r2 * r2 * radius)),
-          e.temperature == 0.0f ? f.temperature : e.temperature};
+  const double radius = f.radius, r2 = radius * radius, v0 = restVolume(scene);
+  const double lattice = v0 * latticeSum(std::cbrt(v0), radius);
+  for (size_t k = 0; k < scene.emitters.size(); ++k) {
+    const Emitter& e = scene.emitters[k];
+    if (!e.flow) continue;
+    const double v = double(e.mass) / f.density;
+    const double density = v / lattice;
+    weights[k] = {float(density), float(3.0 * density / radius),
+                  float(double(scene.h()) * v * 945.0 / (32.0 * kPi * r2 * r2 * radius)),
+                  e.temperature == 0.0f ? f.temperature : e.temperature};
+  }
+  return weights;
 }
 
 std::vector<FlowRange> flowRanges(const Scene& scene) {
@@ -141,11 +147,12 @@ gpu::FlowParams flowParams(const Scene& scene) {
   p.contact = {k.conduction, scene.flow->restitution, 0.0f, 0.0f};
   p.limits = {kPairCut, kTinyTerm, kCoincident, kCellLimit};
   for (uint32_t i = 0; i < kViscosityEntries; ++i) p.table[i / 4][i % 4] = k.table[i];
+  const std::vector<FlowWeights> weights = flowWeights(scene);
   uint32_t n = 0;
   uint64_t slots = 0;
   for (size_t e = 0; e < scene.emitters.size(); ++e) {
     if (!scene.emitters[e].flow) continue;
-    const FlowWeights w = flowWeights(scene, e);
+    const FlowWeights& w = weights[e];
     p.emitters[n].weights = {w.density, w.pressure, w.laplacian, w.birth};
     p.emitters[n].slots = {uint32_t(e), uint32_t(slots), uint32_t(scene.firstSlot(e)),
                            scene.emitters[e].particles};
@@ -195,8 +202,8 @@ FlowStepper::FlowStepper(const Reference& reference, unsigned threads)
   for (Collider& c : contact_.colliders) c.restitution = s.flow->restitution;
   uint64_t slots = 0;
   emitterOfSlot_.assign(s.particles(), kNotFlow);
+  weights_ = flowWeights(s);
   for (size_t e = 0; e < s.emitters.size(); ++e) {
-    weights_.push_back(flowWeights(s, e));
     if (!s.emitters[e].flow) continue;
     const uint64_t first = s.firstSlot(e);
     std::fill_n(emitterOfSlot_.begin() + first, s.emitters[e].particles, uint32_t(e));
@@ -226,10 +233,10 @@ void FlowStepper::sort(const State& state) {
   }
   for (uint32_t b = 0; b < buckets_; ++b) start_[b + 1] += start_[b];
   sorted_.resize(start_[buckets_]);
-  std::vector<uint32_t> next(start_.begin(), start_.end() - 1);
+  cursor_.assign(start_.begin(), start_.end() - 1);
   for (size_t i = 0; i < state.particles.size(); ++i)
     if (emitterOfSlot_[i] != kNotFlow && !(state.particles[i].age < 0.0f))
-      sorted_[next[bucketOf(cells_[i], buckets_)]++] = uint32_t(i);
+      sorted_[cursor_[bucketOf(cells_[i], buckets_)]++] = uint32_t(i);
 }
 
 // Calls visit(j, d, q, t) for every flow particle j within the radius of particle i (i

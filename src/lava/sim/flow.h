@@ -46,7 +46,7 @@ struct FlowWeights {
   float laplacian;  // h V 945 / (32 pi radius^5) (s/m^2): poly6's -W'(r)/r
   float birth;      // temperature at birth (K)
 };
-FlowWeights flowWeights(const Scene& scene, size_t emitter);
+std::vector<FlowWeights> flowWeights(const Scene& scene);  // one per emitter
 
 // The grid cell of a position, and its bucket among `buckets` (a power of two).
 struct Cell {
@@ -97,8 +97,9 @@ class FlowStepper {
   std::vector<FlowWeights> weights_;
   std::vector<uint32_t> emitterOfSlot_;  // kNotFlow for slots of other emitters
   uint32_t buckets_ = 0;
-  // The grid: alive flow slots sorted by (bucket, slot); each bucket's range in `start`.
-  std::vector<uint32_t> start_, sorted_;
+  // The grid: alive flow slots sorted by (bucket, slot); each bucket's range in `start`, and
+  // the sort's next place in each (kept between steps, not reallocated).
+  std::vector<uint32_t> start_, sorted_, cursor_;
   std::vector<Cell> cells_;  // per slot: its cell this step
   // Per slot, from the first pass.
   std::vector<float> theta_, pi_, viscosity_, viscous_, conductive_;

@@ -162,9 +162,9 @@ detail::Spirv flowShader(const detail::DeviceContext& c) {
 // The flow's own copy of its particles, their heat and its grid (flow.comp), for scenes with
 // flow emitters.
 struct FlowState {
-  FlowState(detail::DeviceContext& c, const Scene& scene)
+  // `params`: the scene's flowParams(), for its sizes (they never change with the scene).
+  FlowState(detail::DeviceContext& c, const Scene& scene, const gpu::FlowParams& params)
       : ranges(detail::flowRanges(scene)),
-        params(detail::flowParams(scene)),
         slots(params.sizes.y),
         buckets(params.sizes.x),
         particles(c, VkDeviceSize{slots} * kParticleBytes,
@@ -224,7 +224,6 @@ struct FlowState {
   }
 
   std::vector<detail::FlowRange> ranges;
-  gpu::FlowParams params;  // the constructor's scene's: sizes and slots never change
   uint32_t slots, buckets;
   Buffer particles, heat, next, scratch, grid;
   Buffer upload, readback;  // setState()'s particles then heat; state()'s heat
@@ -250,6 +249,7 @@ struct GpuSimulation::Impl {
   // One pipeline per set of modules a scene used (kept: a frame in flight may use it).
   std::map<detail::Constants, detail::UniquePipeline> pipelines;
   std::unique_ptr<FlowState> flow;  // scenes with flow emitters
+  gpu::FlowParams flowParams{};      // the scene's, made when it is set (scenes with a flow)
   std::vector<EmitterClock> clocks;
   uint64_t step = 0;
   bool initPending = true;  // the particles still hold whatever the allocation held
@@ -370,8 +370,8 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
   if (scene.flows()) {
     // The flow's buffers are one binding each, its passes one dispatch each: within the
     // device's binding range, allocation and workgroup count, or refused now.
-    const gpu::FlowParams fp = detail::flowParams(scene);
-    const uint64_t slots = fp.sizes.y, buckets = fp.sizes.x;
+    m.flowParams = detail::flowParams(scene);
+    const uint64_t slots = m.flowParams.sizes.y, buckets = m.flowParams.sizes.x;
     const uint64_t binding = std::max(slots * sizeof(gpu::FlowNext), (2 * buckets + 1 + slots) * 4);
     const uint64_t groups = std::max(slots, buckets) / gpu::kWorkgroupSize + 1;
     const uint64_t range = std::min<uint64_t>(c.limits.maxStorageBufferRange, c.maxAllocation);
@@ -383,7 +383,7 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
                                              "' allows " + std::to_string(range >> 20) +
                                              " MiB and " +
                                              std::to_string(c.limits.maxComputeWorkGroupCount[0]));
-    m.flow = std::make_unique<FlowState>(c, scene);
+    m.flow = std::make_unique<FlowState>(c, scene, m.flowParams);
     m.flowPipeline(scene);
   }
   m.pipelinesFor(scene, true);
@@ -424,7 +424,10 @@ uint64_t GpuSimulation::step() const {
 void GpuSimulation::setScene(const Scene& scene) {
   Simulation::setScene(scene);
   impl_->pipelinesFor(scene_);  // created now, not while recording
-  if (impl_->flow) impl_->flowPipeline(scene_);
+  if (impl_->flow) {
+    impl_->flowParams = detail::flowParams(scene_);
+    impl_->flowPipeline(scene_);
+  }
 }
 
 VkPipeline GpuSimulation::Impl::flowPipeline(const Scene& scene) {
@@ -492,7 +495,6 @@ void GpuSimulation::Impl::plan(const Scene& scene, uint32_t index, uint32_t step
     if (!slot.flowParams.get())
       slot.flowParams = Buffer(c, sizeof(gpu::FlowParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                MemoryUse::Upload);
-    const gpu::FlowParams flowParams = detail::flowParams(scene);
     std::memcpy(slot.flowParams.mapped(), &flowParams, sizeof(flowParams));
     slot.flowParams.flush();
   }
