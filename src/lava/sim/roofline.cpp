@@ -46,6 +46,34 @@ uint64_t cellKey(const detail::Cell& c) {
   return axis(c.x) | axis(c.y) << 21 | axis(c.z) << 42;
 }
 
+// The median device time of `passes` submissions, after one more to warm up (pass -1):
+// each records prepare(commands), untimed, then work(commands, pass) between two timestamps.
+// The descriptor sets are reset before each (the previous submission has finished).
+template <class Prepare, class Work>
+double medianSeconds(const detail::DeviceContext& c, detail::DescriptorArena& sets, int passes,
+                     const Prepare& prepare, const Work& work) {
+  const detail::TimestampPair timer(c);
+  std::vector<double> times;
+  for (int pass = -1; pass < passes; ++pass) {
+    sets.reset();
+    c.submitNow([&](VkCommandBuffer commands) {
+      prepare(commands);
+      timer.recordStart(commands);
+      work(commands, pass);
+      timer.recordEnd(commands);
+    });
+    if (pass >= 0) times.push_back(timer.seconds());
+  }
+  return median(times);
+}
+
+// WAW: the previous pass wrote what this one overwrites.
+void afterThePreviousPass(const detail::DeviceContext& c, VkCommandBuffer commands) {
+  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_SHADER_WRITE_BIT);
+}
+
 float invRadius(const Scene& scene) {
   if (!scene.flow) throw InvalidArgument("scene", "has no [flow]: it has no neighbour pairs");
   return 1.0f / scene.flow->radius;
@@ -74,34 +102,24 @@ double gpuCopySeconds(Device& device, uint64_t particles, int passes) {
          detail::Buffer(c, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, detail::MemoryUse::Device),
          count});
   }
-  const detail::TimestampPair timer(c);
-  std::vector<double> times;
   detail::DescriptorArena sets(c);
-  for (int pass = -1; pass < passes; ++pass) {  // pass -1 warms up
-    sets.reset();                               // the previous pass has finished
-    c.submitNow([&](VkCommandBuffer commands) {
-      // WAW: the previous pass wrote the destination this one overwrites.
-      detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                            VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                            VK_ACCESS_SHADER_WRITE_BIT);
-      timer.recordStart(commands);
-      c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-      for (const Chunk& chunk : chunks) {
-        const glm::uvec4 range{0u, chunk.count, 0u, 0u};
-        detail::Descriptors()
-            .buffer(gpu::kCopySourceBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, chunk.source.get())
-            .buffer(gpu::kCopyDestinationBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                    chunk.destination.get())
-            .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, setLayout, sets);
-        c.vk.CmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(range),
-                              &range);
-        c.vk.CmdDispatch(commands, detail::groupCount(chunk.count, gpu::kWorkgroupSize), 1, 1);
-      }
-      timer.recordEnd(commands);
-    });
-    if (pass >= 0) times.push_back(timer.seconds());
-  }
-  return median(times);
+  return medianSeconds(
+      c, sets, passes, [&](VkCommandBuffer commands) { afterThePreviousPass(c, commands); },
+      [&](VkCommandBuffer commands, int) {
+        c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+        for (const Chunk& chunk : chunks) {
+          const glm::uvec4 range{0u, chunk.count, 0u, 0u};
+          detail::Descriptors()
+              .buffer(gpu::kCopySourceBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                      chunk.source.get())
+              .buffer(gpu::kCopyDestinationBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                      chunk.destination.get())
+              .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, setLayout, sets);
+          c.vk.CmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(range),
+                                &range);
+          c.vk.CmdDispatch(commands, detail::groupCount(chunk.count, gpu::kWorkgroupSize), 1, 1);
+        }
+      });
 }
 
 double cpuCopySeconds(uint64_t particles, unsigned threads, int passes) {
@@ -209,48 +227,43 @@ double gpuComputeUpdatesPerSecond(Device& device, const Scene& scene,
     auto texels = detail::createTexelView(c, buffer.get(), bytes);
     chunks.push_back({std::move(buffer), std::move(source), std::move(texels), count});
   }
-  const detail::TimestampPair timer(c);
-  std::vector<double> times;
   detail::DescriptorArena sets(c);
-  for (int pass = -1; pass < passes; ++pass) {  // pass -1 warms up
-    sets.reset();                               // the previous pass has finished
-    c.submitNow([&](VkCommandBuffer commands) {
-      // Each pass from the start state, so it steps what the timed run stepped (WAW/WAR: the
-      // previous pass read and wrote the particles).
-      detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                            VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT,
-                            VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
-      for (const Chunk& chunk : chunks) {
-        const VkBufferCopy region{0, 0, VkDeviceSize{chunk.count} * sizeof(Particle)};
-        c.vk.CmdCopyBuffer(commands, chunk.source.get(), chunk.particles.get(), 1, &region);
-      }
-      detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                            VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                            VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-      timer.recordStart(commands);
-      c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-      for (const Chunk& chunk : chunks) {
-        gpu::StepParams push{};
-        push.run = {0u, pass < 0 ? std::min(steps, 64u) : steps, 0u, 0u};
-        push.chunk = {0u, chunk.count, 0u, 0u};
-        detail::Descriptors()
-            .buffer(gpu::kParticleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, chunk.particles.get(),
-                    0, VkDeviceSize{chunk.count} * sizeof(Particle))
-            .texels(gpu::kParticleTexelBinding, chunk.texels.get())
-            .buffer(gpu::kSceneBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params.get(), 0,
-                    sizeof(gpu::SceneParams))
-            .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, setLayout, sets);
-        c.vk.CmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push),
-                              &push);
-        const uint64_t invocations = (uint64_t{chunk.count} + gpu::kParticlesPerInvocation - 1) /
-                                     gpu::kParticlesPerInvocation;
-        c.vk.CmdDispatch(commands, detail::groupCount(invocations, gpu::kWorkgroupSize), 1, 1);
-      }
-      timer.recordEnd(commands);
-    });
-    if (pass >= 0) times.push_back(timer.seconds());
-  }
-  return double(particles) * double(steps) / median(times);
+  // Each pass from the start state, so it steps what the timed run stepped (WAW/WAR: the
+  // previous pass read and wrote the particles).
+  const auto reset = [&](VkCommandBuffer commands) {
+    detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                          VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT,
+                          VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+    for (const Chunk& chunk : chunks) {
+      const VkBufferCopy region{0, 0, VkDeviceSize{chunk.count} * sizeof(Particle)};
+      c.vk.CmdCopyBuffer(commands, chunk.source.get(), chunk.particles.get(), 1, &region);
+    }
+    detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                          VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  };
+  const double seconds = medianSeconds(c, sets, passes, reset, [&](VkCommandBuffer commands,
+                                                                   int pass) {
+    c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+    for (const Chunk& chunk : chunks) {
+      gpu::StepParams push{};
+      push.run = {0u, pass < 0 ? std::min(steps, 64u) : steps, 0u, 0u};
+      push.chunk = {0u, chunk.count, 0u, 0u};
+      detail::Descriptors()
+          .buffer(gpu::kParticleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, chunk.particles.get(),
+                  0, VkDeviceSize{chunk.count} * sizeof(Particle))
+          .texels(gpu::kParticleTexelBinding, chunk.texels.get())
+          .buffer(gpu::kSceneBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params.get(), 0,
+                  sizeof(gpu::SceneParams))
+          .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, setLayout, sets);
+      c.vk.CmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push),
+                            &push);
+      const uint64_t invocations = (uint64_t{chunk.count} + gpu::kParticlesPerInvocation - 1) /
+                                   gpu::kParticlesPerInvocation;
+      c.vk.CmdDispatch(commands, detail::groupCount(invocations, gpu::kWorkgroupSize), 1, 1);
+    }
+  });
+  return double(particles) * double(steps) / seconds;
 }
 
 FlowNeighbours flowNeighbours(const Scene& scene, const State& state) {
@@ -349,34 +362,25 @@ double gpuFlowPairsPerSecond(Device& device, const Scene& scene, const FlowNeigh
   const detail::Buffer lists = upload(n.lists.data(), n.lists.size() * sizeof(uint32_t));
   const detail::Buffer sums(c, std::max<VkDeviceSize>(positions.size() * sizeof(float), 4),
                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, detail::MemoryUse::Device);
-  const detail::TimestampPair timer(c);
   detail::DescriptorArena sets(c);
-  std::vector<double> rates;
   const uint32_t count = uint32_t(n.particles.size());
-  for (int pass = -1; pass < passes; ++pass) {  // pass -1 warms up
-    sets.reset();
-    c.submitNow([&](VkCommandBuffer commands) {
-      // WAW: the previous pass wrote the sums.
-      detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                            VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                            VK_ACCESS_SHADER_WRITE_BIT);
-      timer.recordStart(commands);
-      c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-      detail::Descriptors()
-          .buffer(0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pos.get())
-          .buffer(1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, starts.get())
-          .buffer(2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, lists.get())
-          .buffer(3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sums.get())
-          .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, setLayout, sets);
-      const glm::uvec4 push[2] = {{count, 0u, 0u, 0u},
-                                  {glm::floatBitsToUint(inv), 0u, 0u, 0u}};
-      c.vk.CmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), push);
-      c.vk.CmdDispatch(commands, detail::groupCount(count, gpu::kWorkgroupSize), 1, 1);
-      timer.recordEnd(commands);
-    });
-    if (pass >= 0) rates.push_back(double(n.lists.size()) / timer.seconds());
-  }
-  return median(rates);
+  const double seconds = medianSeconds(
+      c, sets, passes, [&](VkCommandBuffer commands) { afterThePreviousPass(c, commands); },
+      [&](VkCommandBuffer commands, int) {
+        c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+        detail::Descriptors()
+            .buffer(0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pos.get())
+            .buffer(1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, starts.get())
+            .buffer(2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, lists.get())
+            .buffer(3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sums.get())
+            .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, setLayout, sets);
+        const glm::uvec4 push[2] = {{count, 0u, 0u, 0u},
+                                    {glm::floatBitsToUint(inv), 0u, 0u, 0u}};
+        c.vk.CmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push),
+                              push);
+        c.vk.CmdDispatch(commands, detail::groupCount(count, gpu::kWorkgroupSize), 1, 1);
+      });
+  return double(n.lists.size()) / seconds;
 }
 
 }  // namespace lava
