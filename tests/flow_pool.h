@@ -10,6 +10,7 @@
 #include <memory>
 #include <vector>
 
+#include "common/npy.h"
 #include "lava/scene.h"
 #include "lava/simulation.h"
 #include "scene/keys.h"
@@ -173,6 +174,30 @@ inline void expectNoParticleInsideTheSphere(const MakeSimulation& make, uint32_t
       ASSERT_GE(dx * dx + dy * dy + dz * dz, 0.2f * 0.2f * (1.0f - 1e-5f));
     }
   }
+}
+
+// SPEC's temperature column: an 8th column with the flow particles' temperatures, 0 for
+// sparks and unborn slots; a scene without a flow keeps 7.
+inline void expectTemperatureColumn(const MakeSimulation& make) {
+  Scene s = poolScene(64);
+  s.emitters.push_back(Emitter{});  // sparks
+  s.emitters[1].particles = 100;
+  s.emitters[1].rate = 20000.0;
+  s.emitters[0].temperature = 1350.0f;
+  s.emitters[0].particles = 80;  // 16 slots stay unborn
+  const std::unique_ptr<Simulation> sim = make(s);
+  sim->advance(3);
+  const State state = sim->state();
+  ASSERT_EQ(common::stateColumns(state), 8u);
+  for (size_t i = 0; i < state.particles.size(); ++i) {
+    float row[8];
+    common::stateRow(state, i, row);
+    if (i < 64)
+      EXPECT_NEAR(row[7], 1350.0f, 1e-3f) << i;  // born at 1350 K, no cooling
+    else
+      EXPECT_EQ(row[7], 0.0f) << i << (i < 80 ? " (unborn)" : " (a spark)");
+  }
+  EXPECT_EQ(common::stateColumns(make(Scene{})->state()), 7u);
 }
 
 }  // namespace lava::test

@@ -117,25 +117,7 @@ TEST(FlowKeys, ViscosityIsExactAtBothEndsAndMonotoneBetween) {
 }
 
 TEST(FlowState, TheTemperatureColumnHoldsFlowParticlesOnly) {
-  Scene s = poolScene(64);
-  s.emitters.push_back(Emitter{});  // sparks
-  s.emitters[1].particles = 100;
-  s.emitters[1].rate = 20000.0;
-  s.emitters[0].temperature = 1350.0f;
-  s.emitters[0].particles = 80;  // 16 slots stay unborn
-  CpuSimulation cpu(s, 1);
-  cpu.advance(3);
-  const State state = cpu.state();
-  ASSERT_EQ(common::stateColumns(state), 8u);
-  for (size_t i = 0; i < state.particles.size(); ++i) {
-    float row[8];
-    common::stateRow(state, i, row);
-    if (i < 64)
-      EXPECT_NEAR(row[7], 1350.0f, 1e-3f) << i;  // born at 1350 K, no cooling
-    else
-      EXPECT_EQ(row[7], 0.0f) << i << (i < 80 ? " (unborn)" : " (a spark)");
-  }
-  EXPECT_EQ(common::stateColumns(CpuSimulation(Scene{}, 1).state()), 7u);
+  test::expectTemperatureColumn(cpuReference);
 }
 
 TEST(FlowState, ACheckpointResumesTheFlowBitForBit) {

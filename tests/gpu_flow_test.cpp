@@ -114,6 +114,11 @@ TEST_F(GpuFlow, AHotterPoolRunsFurtherThanACoolerOne) {
       [&](const Scene& s) { return std::make_unique<GpuSimulation>(device(), s); }, kPool);
 }
 
+TEST_F(GpuFlow, TheTemperatureColumnHoldsFlowParticlesOnly) {
+  test::expectTemperatureColumn(
+      [&](const Scene& s) { return std::make_unique<GpuSimulation>(device(), s); });
+}
+
 TEST_F(GpuFlow, NoParticleEndsInsideACollider) {
   test::expectNoParticleInsideTheSphere(
       [&](const Scene& s) { return std::make_unique<GpuSimulation>(device(), s); }, kPool);
