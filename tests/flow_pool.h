@@ -176,8 +176,8 @@ inline void expectNoParticleInsideTheSphere(const MakeSimulation& make, uint32_t
   }
 }
 
-// SPEC's temperature column: an 8th column with the flow particles' temperatures, 0 for
-// sparks and unborn slots; a scene without a flow keeps 7.
+// The temperature column (docs/flow.md): an 8th column with the flow particles'
+// temperatures, 0 for sparks and unborn slots; a scene without a flow keeps 7.
 inline void expectTemperatureColumn(const MakeSimulation& make) {
   Scene s = poolScene(64);
   s.emitters.push_back(Emitter{});  // sparks
