@@ -1,8 +1,8 @@
 #version 460
 // One pass of one step of the flow (docs/model.md, "The flow"), on the flow's own copy of its
 // particles, their temperatures and crust flags: the step's births and the grid (births,
-// scan, scatter, order), then the two neighbour passes (density, forces and the step), then
-// the results over the state (store). The host records the seven passes per step, with a
+// scan, starts, scatter, order), then the two neighbour passes (density, forces and the step), then
+// the results over the state (store). The host records the eight passes per step, with a
 // barrier between each, and copies the flow's particles into the state's chunks after the
 // last step it records.
 //
@@ -68,6 +68,15 @@ uint startAt(uint b) {
 }
 uint sortedAt(uint e) {
   return 2u * buckets() + 1u + e;
+}
+uint runs() {
+  return buckets() / kFlowRun;
+}
+uint runCountAt(uint r) {
+  return 2u * buckets() + 1u + flow.sizes.y + r;
+}
+uint runStartAt(uint r) {
+  return runCountAt(runs() + r);
 }
 
 // The flow emitter (an index into flow.emitters) of flow index f.
@@ -171,15 +180,17 @@ void births(uint f) {
   const uint b = bucketOf(c);
   scratch[f].cell = ivec4(c, int(b));
   atomicAdd(grid[b], 1u);
+  atomicAdd(grid[runCountAt(b / kFlowRun)], 1u);
 }
 
-// One workgroup: each bucket's start from the counts (a run of buckets per invocation, then
-// the runs' sums in order), and each count back to 0 for the scatter's cursors.
+// One workgroup: each run's start from the runs' counts (the runs in turns of consecutive
+// runs per invocation, then the turns' sums in order), each run's count back to 0; the total
+// after the last bucket's start.
 void scan(uint t) {
-  const uint per = buckets() / kWorkgroupSize;
-  const uint begin = t * per;
+  const uint per = max(runs() / kWorkgroupSize, 1u);
+  const uint begin = min(t * per, runs()), end = min(begin + per, runs());
   uint sum = 0u;
-  for (uint i = 0u; i < per; ++i) sum += grid[begin + i];
+  for (uint r = begin; r < end; ++r) sum += grid[runCountAt(r)];
   partial[t] = sum;
   barrier();
   if (t == 0u) {
@@ -193,10 +204,23 @@ void scan(uint t) {
   }
   barrier();
   uint running = partial[t];
-  for (uint i = 0u; i < per; ++i) {
-    const uint count = grid[begin + i];
-    grid[startAt(begin + i)] = running;
-    grid[begin + i] = 0u;
+  for (uint r = begin; r < end; ++r) {
+    const uint count = grid[runCountAt(r)];
+    grid[runStartAt(r)] = running;
+    grid[runCountAt(r)] = 0u;
+    running += count;
+  }
+}
+
+// Per run of kFlowRun buckets: their starts from the run's, and their counts back to 0 for
+// the scatter's cursors (no barrier: every run at once).
+void starts(uint r) {
+  const uint first = r * kFlowRun;
+  uint running = grid[runStartAt(r)];
+  for (uint b = first; b < first + kFlowRun; ++b) {
+    const uint count = grid[b];
+    grid[startAt(b)] = running;
+    grid[b] = 0u;
     running += count;
   }
 }
@@ -375,6 +399,10 @@ void main() {
     return;
   }
   const uint id = gl_GlobalInvocationID.x;
+  if (pass == kFlowStarts) {
+    if (id < runs()) starts(id);
+    return;
+  }
   if (pass == kFlowOrder) {
     if (id < buckets()) order(id);
     return;

@@ -181,15 +181,20 @@ const uint kFlowHeatBinding = 2u;      // FlowHeat per flow index
 const uint kFlowParamsBinding = 4u;    // FlowParams
 const uint kFlowNextBinding = 5u;      // FlowNext per flow index: the step's results
 const uint kFlowScratchBinding = 6u;   // FlowScratch per flow index
-const uint kFlowGridBinding = 7u;      // uint: counts[buckets], start[buckets + 1], sorted[slots]
-const uint kFlowBirths = 0u;   // per flow slot: the step's births; cell, bucket, count
-const uint kFlowScan = 1u;     // one workgroup: each bucket's start; counts to 0
-const uint kFlowScatter = 2u;  // per flow slot: into its bucket (in any order)
-const uint kFlowOrder = 3u;    // per bucket: its slots in order; its count to 0
-const uint kFlowDensity = 4u;  // per flow slot: the first neighbour pass
-const uint kFlowForces = 5u;   // per flow slot: the second neighbour pass and the step
-const uint kFlowStore = 6u;    // per flow slot: the results over the state
-const uint kFlowPasses = 7u;
+const uint kFlowGridBinding = 7u;      // uint: counts[buckets], start[buckets + 1], sorted[slots],
+                                       // then per run of buckets its count and its start
+const uint kFlowBirths = 0u;   // per flow slot: the step's births; cell, bucket, counts
+const uint kFlowScan = 1u;     // one workgroup: each run's start; run counts to 0
+const uint kFlowStarts = 2u;   // per run of buckets: their starts; counts to 0
+const uint kFlowScatter = 3u;  // per flow slot: into its bucket (in any order)
+const uint kFlowOrder = 4u;    // per bucket: its slots in order; its count to 0
+const uint kFlowDensity = 5u;  // per flow slot: the first neighbour pass
+const uint kFlowForces = 6u;   // per flow slot: the second neighbour pass and the step
+const uint kFlowStore = 7u;    // per flow slot: the results over the state
+const uint kFlowPasses = 8u;
+// Buckets per run: the scan sums runs, then each run's buckets get their starts in parallel
+// (the buckets are a power of two, 1024 or more).
+const uint kFlowRun = 32u;
 const uint kFlowUnsorted = 0xffffffffu;  // FlowScratch.cell.w of a slot not in the grid
 // Entries of the viscosity table, solidus to temperature.
 const uint kViscosityEntries = 64u;

@@ -178,6 +178,7 @@ uint32_t bucketOf(const Cell& c, uint32_t buckets) {
 }
 
 uint32_t flowBuckets(uint64_t slots) {
+  static_assert(1024 % gpu::kFlowRun == 0, "flow.comp's scan takes whole runs");
   uint32_t buckets = 1024;
   while (buckets < 2 * slots && buckets < (1u << 30)) buckets *= 2;
   return buckets;

@@ -159,6 +159,12 @@ detail::Spirv flowShader(const detail::DeviceContext& c) {
                            LAVA_SPIRV(spirv::kFlowRteSpv), LAVA_SPIRV(spirv::kFlowPlainSpv));
 }
 
+// flow.comp's grid: each bucket's count and start, the sorted slots, each run's count and
+// start (shared.h, kFlowGridBinding).
+VkDeviceSize flowGridBytes(uint64_t buckets, uint64_t slots) {
+  return (2 * buckets + 1 + slots + 2 * (buckets / gpu::kFlowRun)) * sizeof(uint32_t);
+}
+
 // The flow's own copy of its particles, their heat and its grid (flow.comp), for scenes with
 // flow emitters.
 struct FlowState {
@@ -195,9 +201,7 @@ struct FlowState {
     layout = detail::createPipelineLayout(c, setLayout, VK_SHADER_STAGE_COMPUTE_BIT,
                                           sizeof(gpu::FlowStepParams));
   }
-  VkDeviceSize gridBytes() const {
-    return (2 * VkDeviceSize{buckets} + 1 + slots) * sizeof(uint32_t);
-  }
+  VkDeviceSize gridBytes() const { return flowGridBytes(buckets, slots); }
   // Copies between the state's chunks and the flow's particles (toFlow: chunks to flow).
   void copy(const detail::DeviceContext& c, VkCommandBuffer commands,
             const std::vector<ParticleChunk>& chunks, bool toFlow) const {
@@ -372,7 +376,7 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
     // device's binding range, allocation and workgroup count, or refused now.
     m.flowParams = detail::flowParams(scene);
     const uint64_t slots = m.flowParams.sizes.y, buckets = m.flowParams.sizes.x;
-    const uint64_t binding = std::max(slots * sizeof(gpu::FlowNext), (2 * buckets + 1 + slots) * 4);
+    const uint64_t binding = std::max(slots * sizeof(gpu::FlowNext), flowGridBytes(buckets, slots));
     const uint64_t groups = std::max(slots, buckets) / gpu::kWorkgroupSize + 1;
     const uint64_t range = std::min<uint64_t>(c.limits.maxStorageBufferRange, c.maxAllocation);
     if (binding > range || groups > c.limits.maxComputeWorkGroupCount[0])
@@ -599,6 +603,11 @@ void GpuSimulation::Impl::recordFlow(const Scene& scene, VkCommandBuffer command
       .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, f.layout, f.setLayout, slot.sets);
   const uint32_t perSlot = detail::groupCount(f.slots, gpu::kWorkgroupSize);
   const uint32_t perBucket = detail::groupCount(f.buckets, gpu::kWorkgroupSize);
+  uint32_t groups[gpu::kFlowPasses];  // workgroups per pass
+  std::fill_n(groups, gpu::kFlowPasses, perSlot);
+  groups[gpu::kFlowScan] = 1;
+  groups[gpu::kFlowStarts] = detail::groupCount(f.buckets / gpu::kFlowRun, gpu::kWorkgroupSize);
+  groups[gpu::kFlowOrder] = perBucket;
   gpu::FlowStepParams params{};
   params.run.z = slot.capacity;
   for (uint32_t s = 0; s < slot.planned; ++s) {
@@ -608,9 +617,7 @@ void GpuSimulation::Impl::recordFlow(const Scene& scene, VkCommandBuffer command
       params.run.y = pass;
       c.vk.CmdPushConstants(commands, f.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
                             &params);
-      c.vk.CmdDispatch(commands,
-                       pass == gpu::kFlowScan ? 1 : pass == gpu::kFlowOrder ? perBucket : perSlot,
-                       1, 1);
+      c.vk.CmdDispatch(commands, groups[pass], 1, 1);
     }
   }
   // RAW, and WAW/WAR on the chunks: the copy reads the flow's last results and writes over
