@@ -149,7 +149,7 @@ float pairDistance(precise float q, precise vec3 d, uint i, uint j, out precise 
 }
 
 // The step's births (the last one landing on each slot wins, as on the host), then the
-// slot's cell and bucket, counted.
+// slot's cell and bucket, counted, and what its neighbours will read of it.
 void births(uint f) {
   const FlowEmitterParams fe = flow.emitters[flowEmitter(f)];
   const uint k = fe.slots.x;
@@ -179,6 +179,7 @@ void births(uint f) {
   const ivec3 c = cellOf(q.posAge.xyz);
   const uint b = bucketOf(c);
   scratch[f].cell = ivec4(c, int(b));
+  scratch[f].own = vec4(viscosityAt(heat[f].temperature), fe.weights.xyz);
   atomicAdd(grid[b], 1u);
   atomicAdd(grid[runCountAt(b / kFlowRun)], 1u);
 }
@@ -277,18 +278,17 @@ void density(uint i) {
   const vec3 xi = particles[i].posAge.xyz;
   precise float theta = 0.0, viscous = 0.0, conductive = 0.0;
   bool touches = false;
-  precise float nu = viscosityAt(heat[i].temperature);
+  precise float nu = scratch[i].own.x;
   LAVA_FOR_NEIGHBOURS(i, xi, {
-    const FlowEmitterParams w = flow.emitters[flowEmitter(j)];
+    const vec4 oj = scratch[j].own;  // nu and the density, pressure and Laplacian weights
     precise vec3 n;
     precise float r = pairDistance(q, d, i, j, n);
     precise float tr = max(1.0 - r * flow.kernel.x, 0.0);
-    theta = theta + w.weights.x * ((tr * tr) * tr);
+    theta = theta + oj.y * ((tr * tr) * tr);
     if (j != i) {
       precise float t2 = t * t;
-      precise float nuj = viscosityAt(heat[j].temperature);
-      viscous = viscous + tiny((w.weights.z * (nu + nuj)) * t2);
-      conductive = conductive + tiny(w.weights.z * t2);
+      viscous = viscous + tiny((oj.w * (nu + oj.x)) * t2);
+      conductive = conductive + tiny(oj.w * t2);
       touches = touches || (heat[j].crust != 0u && q < flow.kernel.z);
     }
   })
@@ -308,17 +308,17 @@ void forces(uint i) {
   const vec4 ri = scratch[i].rates;
   const bool isCrust = hi.crust != 0u;
   const bool liquid = !isCrust && hi.temperature > flow.heat.x;
-  precise float nu = viscosityAt(hi.temperature);
+  precise float nu = scratch[i].own.x;
   precise vec3 a = vec3(0.0), dv = vec3(0.0);
   precise float dT = 0.0;
   const vec3 xi = pi.posAge.xyz;
   LAVA_FOR_NEIGHBOURS(i, xi, {
     if (j != i) {
-      const FlowEmitterParams w = flow.emitters[flowEmitter(j)];
+      const vec4 oj = scratch[j].own;  // nu and the density, pressure and Laplacian weights
       const FlowHeat hj = heat[j];
       const vec4 rj = scratch[j].rates;
       precise float t2 = t * t;
-      precise float heatTerm = (((w.weights.z * flow.contact.x) * t2) * min(ri.z, rj.z)) *
+      precise float heatTerm = (((oj.w * flow.contact.x) * t2) * min(ri.z, rj.z)) *
                                (hj.temperature - hi.temperature);
       dT = dT + tiny(heatTerm);
       if (liquid) {
@@ -326,10 +326,9 @@ void forces(uint i) {
         precise vec3 n;
         precise float r = pairDistance(q, d, i, j, n);
         precise float tr = max(1.0 - r * flow.kernel.x, 0.0);
-        precise float push = (w.weights.y * (ri.x + rj.x)) * (tr * tr);
+        precise float push = (oj.z * (ri.x + rj.x)) * (tr * tr);
         a = a + vec3(tiny(push * n.x), tiny(push * n.y), tiny(push * n.z));
-        precise float nuj = viscosityAt(hj.temperature);
-        precise float rate = ((w.weights.z * (nu + nuj)) * t2) * min(ri.y, rj.y);
+        precise float rate = ((oj.w * (nu + oj.x)) * t2) * min(ri.y, rj.y);
         precise vec3 dvj = vj - pi.velMass.xyz;
         dv = dv + vec3(tiny(rate * dvj.x), tiny(rate * dvj.y), tiny(rate * dvj.z));
       }

@@ -214,6 +214,8 @@ struct FlowScratch {
   ivec4 cell;   // xyz the cell, w its bucket (kFlowUnsorted: not in the grid)
   vec4 rates;   // x pi = c^2 max(theta - 1, 0) / theta^2, y the viscous and z the conductive
                 // exchange's stability factors, w 1 when a solid particle touches crust
+  vec4 own;     // x the viscosity at the step's start; yzw its emitter's density, pressure
+                // and Laplacian weights: what its neighbours read of it, looked up once
 };
 
 struct FlowEmitterParams {
@@ -374,7 +376,7 @@ static_assert(sizeof(EmitterParams) == 96 && sizeof(ForceParams) == 48 &&
               "scene parameters are whole vec4s (std140 array strides)");
 static_assert(sizeof(SceneParams) == 32 + 16 * (96 + 48 + 80), "SceneParams as std140 lays it out");
 static_assert(offsetof(SceneParams, forces) == 32 + 16 * 96, "SceneParams members stay vec4s");
-static_assert(sizeof(FlowHeat) == 8 && sizeof(FlowNext) == 48 && sizeof(FlowScratch) == 32,
+static_assert(sizeof(FlowHeat) == 8 && sizeof(FlowNext) == 48 && sizeof(FlowScratch) == 48,
               "the flow's per-slot records match std430");
 static_assert(sizeof(FlowParams) == 96 + 16 * 16 + 32 * kMaxEmitters,
               "FlowParams as std140 lays it out");
