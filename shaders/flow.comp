@@ -1,10 +1,10 @@
 #version 460
 // One pass of one step of the flow (docs/model.md, "The flow"), on the flow's own copy of its
 // particles, their temperatures and crust flags: the step's births and the grid (births,
-// scan, starts, scatter, order), then the two neighbour passes (density, forces and the step), then
-// the results over the state (store). The host records the eight passes per step, with a
-// barrier between each, and copies the flow's particles into the state's chunks after the
-// last step it records.
+// scan, starts, scatter, order), then the two neighbour passes (density, forces and the
+// step), then the results over the state (store). The host records the eight passes per step,
+// with a barrier between each, and copies the flow's particles into the state's chunks after
+// the last step it records.
 //
 // Exactness: as step.comp (every float `precise`, the operations in flow.cpp's order, no
 // square root or division), and every neighbour sum in an order fixed by the state: the
@@ -381,7 +381,8 @@ void forces(uint i) {
     t1 = 0.0;
     becomesCrust = false;
   }
-  next[i] = FlowNext(vec4(x, age), vec4(v, pi.velMass.w), vec4(t1, becomesCrust ? 1.0 : 0.0, 0.0, 0.0));
+  next[i] = FlowNext(vec4(x, age), vec4(v, pi.velMass.w),
+                     vec4(t1, becomesCrust ? 1.0 : 0.0, 0.0, 0.0));
 }
 
 void store(uint f) {

@@ -7,6 +7,7 @@
 
 #include <map>
 
+#include "common/check.h"
 #include "emission.h"
 #include "flow.h"
 #include "lava/error.h"
@@ -14,7 +15,6 @@
 #include "scene_params.h"
 #include "shared.h"
 #include "vulkan/buffer.h"
-#include "common/check.h"
 #include "vulkan/commands.h"
 #include "vulkan/pipeline.h"
 #include "vulkan/shaders.h"
@@ -131,13 +131,12 @@ std::vector<GroupRange> birthGroups(const ScheduleSlot& slot, const ParticleChun
 // Compute reads and writes after every earlier write (compute, transfer) and read (draws,
 // copies) of the same buffers.
 void beforeCompute(const detail::DeviceContext& c, VkCommandBuffer commands) {
-  detail::memoryBarrier(c, commands,
-                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
-                            VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
-                            VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
-                        VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  detail::memoryBarrier(
+      c, commands,
+      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+          VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+      VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 }
 
 // The one of a shader's four builds (both float controls, signed zeros only, RTE only,
@@ -150,13 +149,15 @@ detail::Spirv withFloatControls(const detail::DeviceContext& c, detail::Spirv bo
 }
 
 detail::Spirv stepShader(const detail::DeviceContext& c) {
-  return withFloatControls(c, LAVA_SPIRV(spirv::kStepCompSpv), LAVA_SPIRV(spirv::kStepSignedZeroSpv),
-                           LAVA_SPIRV(spirv::kStepRteSpv), LAVA_SPIRV(spirv::kStepPlainSpv));
+  return withFloatControls(c, LAVA_SPIRV(spirv::kStepCompSpv),
+                           LAVA_SPIRV(spirv::kStepSignedZeroSpv), LAVA_SPIRV(spirv::kStepRteSpv),
+                           LAVA_SPIRV(spirv::kStepPlainSpv));
 }
 
 detail::Spirv flowShader(const detail::DeviceContext& c) {
-  return withFloatControls(c, LAVA_SPIRV(spirv::kFlowCompSpv), LAVA_SPIRV(spirv::kFlowSignedZeroSpv),
-                           LAVA_SPIRV(spirv::kFlowRteSpv), LAVA_SPIRV(spirv::kFlowPlainSpv));
+  return withFloatControls(c, LAVA_SPIRV(spirv::kFlowCompSpv),
+                           LAVA_SPIRV(spirv::kFlowSignedZeroSpv), LAVA_SPIRV(spirv::kFlowRteSpv),
+                           LAVA_SPIRV(spirv::kFlowPlainSpv));
 }
 
 // flow.comp's grid: each bucket's count and start, the sorted slots, each run's count and
@@ -253,7 +254,7 @@ struct GpuSimulation::Impl {
   // One pipeline per set of modules a scene used (kept: a frame in flight may use it).
   std::map<detail::Constants, detail::UniquePipeline> pipelines;
   std::unique_ptr<FlowState> flow;  // scenes with flow emitters
-  gpu::FlowParams flowParams{};      // the scene's, made when it is set (scenes with a flow)
+  gpu::FlowParams flowParams{};     // the scene's, made when it is set (scenes with a flow)
   std::vector<EmitterClock> clocks;
   uint64_t step = 0;
   bool initPending = true;  // the particles still hold whatever the allocation held
@@ -380,12 +381,11 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
     const uint64_t groups = std::max(slots, buckets) / gpu::kWorkgroupSize + 1;
     const uint64_t range = std::min<uint64_t>(c.limits.maxStorageBufferRange, c.maxAllocation);
     if (binding > range || groups > c.limits.maxComputeWorkGroupCount[0])
-      throw InvalidArgument("particles", "the flow's " + std::to_string(slots) +
-                                             " slots need a " + std::to_string(binding >> 20) +
-                                             " MiB binding and " + std::to_string(groups) +
-                                             " workgroups; device '" + c.properties.deviceName +
-                                             "' allows " + std::to_string(range >> 20) +
-                                             " MiB and " +
+      throw InvalidArgument("particles", "the flow's " + std::to_string(slots) + " slots need a " +
+                                             std::to_string(binding >> 20) + " MiB binding and " +
+                                             std::to_string(groups) + " workgroups; device '" +
+                                             c.properties.deviceName + "' allows " +
+                                             std::to_string(range >> 20) + " MiB and " +
                                              std::to_string(c.limits.maxComputeWorkGroupCount[0]));
     m.flow = std::make_unique<FlowState>(c, scene, m.flowParams);
     m.flowPipeline(scene);
@@ -472,8 +472,7 @@ void GpuSimulation::Impl::plan(const Scene& scene, uint32_t index, uint32_t step
   if (steps > slot.capacity)
     throw InvalidArgument("steps", "at most " + std::to_string(slot.capacity) +
                                        " steps per update, got " + std::to_string(steps));
-  auto* entries =
-      static_cast<gpu::EmitEntry*>(slot.schedule.mapped());
+  auto* entries = static_cast<gpu::EmitEntry*>(slot.schedule.mapped());
   const gpu::SceneParams params = detail::sceneParams(scene);
   slot.rings.assign(scene.emitters.size(), 0);
   for (size_t k = 0; k < scene.emitters.size(); ++k) {
@@ -497,8 +496,8 @@ void GpuSimulation::Impl::plan(const Scene& scene, uint32_t index, uint32_t step
   std::memcpy(slot.sceneParams.mapped(), &params, sizeof(params));
   if (flow) {
     if (!slot.flowParams.get())
-      slot.flowParams = Buffer(c, sizeof(gpu::FlowParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
-                               MemoryUse::Upload);
+      slot.flowParams =
+          Buffer(c, sizeof(gpu::FlowParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemoryUse::Upload);
     std::memcpy(slot.flowParams.mapped(), &flowParams, sizeof(flowParams));
     slot.flowParams.flush();
   }
@@ -538,13 +537,12 @@ void GpuSimulation::Impl::record(const Scene& scene, VkCommandBuffer commands, u
       detail::Descriptors()
           .buffer(gpu::kParticleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, chunk.buffer, 0,
                   chunk.count * kParticleBytes)
-          .buffer(gpu::kScheduleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, slot.schedule.get(),
-                  0, scheduleBytes)
+          .buffer(gpu::kScheduleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, slot.schedule.get(), 0,
+                  scheduleBytes)
           .texels(gpu::kParticleTexelBinding, chunk.texels)
-          .buffer(gpu::kSceneBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, slot.sceneParams.get(),
-                  0, sizeof(gpu::SceneParams))
-          .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout, setLayout,
-                slot.sets);
+          .buffer(gpu::kSceneBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, slot.sceneParams.get(), 0,
+                  sizeof(gpu::SceneParams))
+          .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout, setLayout, slot.sets);
       const uint64_t invocations =
           (uint64_t{chunk.count} + gpu::kParticlesPerInvocation - 1) / gpu::kParticlesPerInvocation;
       const uint32_t groups = detail::groupCount(invocations, gpu::kWorkgroupSize);
@@ -595,8 +593,8 @@ void GpuSimulation::Impl::recordFlow(const Scene& scene, VkCommandBuffer command
       .buffer(gpu::kFlowHeatBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.heat.get())
       .buffer(gpu::kSceneBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, slot.sceneParams.get(), 0,
               sizeof(gpu::SceneParams))
-      .buffer(gpu::kFlowParamsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, slot.flowParams.get(),
-              0, sizeof(gpu::FlowParams))
+      .buffer(gpu::kFlowParamsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, slot.flowParams.get(), 0,
+              sizeof(gpu::FlowParams))
       .buffer(gpu::kFlowNextBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.next.get())
       .buffer(gpu::kFlowScratchBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.scratch.get())
       .buffer(gpu::kFlowGridBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.grid.get())

@@ -238,31 +238,31 @@ double gpuComputeUpdatesPerSecond(Device& device, const Scene& scene,
       const VkBufferCopy region{0, 0, VkDeviceSize{chunk.count} * sizeof(Particle)};
       c.vk.CmdCopyBuffer(commands, chunk.source.get(), chunk.particles.get(), 1, &region);
     }
-    detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                          VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+    detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                           VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
   };
-  const double seconds = medianSeconds(c, sets, passes, reset, [&](VkCommandBuffer commands,
-                                                                   int pass) {
-    c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-    for (const Chunk& chunk : chunks) {
-      gpu::StepParams push{};
-      push.run = {0u, pass < 0 ? std::min(steps, 64u) : steps, 0u, 0u};
-      push.chunk = {0u, chunk.count, 0u, 0u};
-      detail::Descriptors()
-          .buffer(gpu::kParticleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, chunk.particles.get(),
-                  0, VkDeviceSize{chunk.count} * sizeof(Particle))
-          .texels(gpu::kParticleTexelBinding, chunk.texels.get())
-          .buffer(gpu::kSceneBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params.get(), 0,
-                  sizeof(gpu::SceneParams))
-          .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, setLayout, sets);
-      c.vk.CmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push),
-                            &push);
-      const uint64_t invocations = (uint64_t{chunk.count} + gpu::kParticlesPerInvocation - 1) /
-                                   gpu::kParticlesPerInvocation;
-      c.vk.CmdDispatch(commands, detail::groupCount(invocations, gpu::kWorkgroupSize), 1, 1);
-    }
-  });
+  const double seconds =
+      medianSeconds(c, sets, passes, reset, [&](VkCommandBuffer commands, int pass) {
+        c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+        for (const Chunk& chunk : chunks) {
+          gpu::StepParams push{};
+          push.run = {0u, pass < 0 ? std::min(steps, 64u) : steps, 0u, 0u};
+          push.chunk = {0u, chunk.count, 0u, 0u};
+          detail::Descriptors()
+              .buffer(gpu::kParticleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                      chunk.particles.get(), 0, VkDeviceSize{chunk.count} * sizeof(Particle))
+              .texels(gpu::kParticleTexelBinding, chunk.texels.get())
+              .buffer(gpu::kSceneBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params.get(), 0,
+                      sizeof(gpu::SceneParams))
+              .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, setLayout, sets);
+          c.vk.CmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push),
+                                &push);
+          const uint64_t invocations = (uint64_t{chunk.count} + gpu::kParticlesPerInvocation - 1) /
+                                       gpu::kParticlesPerInvocation;
+          c.vk.CmdDispatch(commands, detail::groupCount(invocations, gpu::kWorkgroupSize), 1, 1);
+        }
+      });
   return double(particles) * double(steps) / seconds;
 }
 
@@ -374,10 +374,8 @@ double gpuFlowPairsPerSecond(Device& device, const Scene& scene, const FlowNeigh
             .buffer(2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, lists.get())
             .buffer(3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sums.get())
             .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, setLayout, sets);
-        const glm::uvec4 push[2] = {{count, 0u, 0u, 0u},
-                                    {glm::floatBitsToUint(inv), 0u, 0u, 0u}};
-        c.vk.CmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push),
-                              push);
+        const glm::uvec4 push[2] = {{count, 0u, 0u, 0u}, {glm::floatBitsToUint(inv), 0u, 0u, 0u}};
+        c.vk.CmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), push);
         c.vk.CmdDispatch(commands, detail::groupCount(count, gpu::kWorkgroupSize), 1, 1);
       });
   return double(n.lists.size()) / seconds;
