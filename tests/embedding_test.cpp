@@ -366,7 +366,7 @@ struct HostReadback {
 
 // A host that only records: from Lava's device to its destruction, frames of simulation and
 // drawing (both renderers, the lava look with its glow, a resize that also rebuilds the
-// host's frames with one more in flight) through the host's own command buffers, and Lava
+// host's frames with one more in flight, and a live setScene()) through the host's own command buffers, and Lava
 // never submits or waits. What it recorded is right: the host's
 // own read-back of the particles equals the CPU reference bit for bit (the particles'
 // initial state, too, was recorded, not uploaded).
@@ -391,6 +391,9 @@ TEST_P(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
   scene.emitters[0].particles = 4096;
   scene.emitters[0].rate = 20000.0;
   constexpr uint32_t kFrames = 24, kSteps = 17;
+  Scene edited = scene;  // from frame kFrames / 2 on
+  edited.wind = {0.4f, 0.0f, -0.2f};
+  edited.emitters[0].rate = 9000.0;
   std::vector<Particle> readBack;
   {
     Device device(handles);
@@ -415,6 +418,7 @@ TEST_P(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
         device.setFramesInFlight(3);
         frames = std::make_unique<HostFrames>(vkDevice, 3);
         lines.setExtent(extents[t]);
+        gpu.setScene(edited);  // a live edit: no submission or wait either
       } else if (frame == 0) {
         lines.setExtent(extents[t]);
       }
@@ -480,7 +484,9 @@ TEST_P(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
   ASSERT_NE(lavaCalls.queueSubmit, nullptr) << "the counting wrappers were not used";
 
   CpuSimulation cpu(scene);
-  cpu.advance(uint64_t{kFrames} * kSteps);
+  cpu.advance(uint64_t{kFrames / 2} * kSteps);
+  cpu.setScene(edited);
+  cpu.advance(uint64_t{kFrames - kFrames / 2} * kSteps);
   const Comparison diff = compare(readBack, cpu.state().particles);
   EXPECT_EQ(diff.equal, diff.particles) << "max ULP " << diff.maxUlp;
 
@@ -905,6 +911,134 @@ TEST_F(EmbeddingDraw, LinesLandInAHostImageOfAnotherChannelOrder) {
     }
     EXPECT_GT(lit, 100u);
   }
+}
+
+// A host like Dear ImGui's that destroys and remakes its render pass (colour only, cleared)
+// at every resize, and gives Lava the new one only when it makes its renderers: a pass is
+// destroyed before the renderers first use it, then remade at each of five sizes, small and
+// large enough to switch the splat's and the glow's reads between texel views and storage
+// buffers where the device's texel views are small (SwiftShader's 65,536 texels), which
+// rebuilds pipelines in setExtent(). Lava keeps no handle of the host's: no validation
+// message, and lava is drawn at every size.
+TEST_F(EmbeddingDraw, AHostThatRemakesItsRenderPassAtEveryResizeDrawsEveryFrame) {
+  const DeviceHandles& host = device().handles();
+  const VkDevice vk = host.device;
+  constexpr VkFormat kColor = VK_FORMAT_B8G8R8A8_UNORM;
+  constexpr VkImageLayout kColorLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+  const auto makePass = [&] {
+    VkAttachmentDescription a{};
+    a.format = kColor;
+    a.samples = VK_SAMPLE_COUNT_1_BIT;
+    a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    a.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    a.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    a.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    a.finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    const VkAttachmentReference color{0, kColorLayout};
+    VkSubpassDescription subpass{};
+    subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    subpass.colorAttachmentCount = 1;
+    subpass.pColorAttachments = &color;
+    VkSubpassDependency dependency{};  // as ImGui's: the attachment's writes after its last use
+    dependency.srcSubpass = VK_SUBPASS_EXTERNAL;
+    dependency.srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
+                              VK_PIPELINE_STAGE_TRANSFER_BIT;
+    dependency.dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    dependency.srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    dependency.dstAccessMask =
+        VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    VkSubpassDependency after{};  // the copy to the read-back after the pass
+    after.srcSubpass = 0;
+    after.dstSubpass = VK_SUBPASS_EXTERNAL;
+    after.srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    after.dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+    after.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    after.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    const VkSubpassDependency dependencies[2] = {dependency, after};
+    VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+    info.attachmentCount = 1;
+    info.pAttachments = &a;
+    info.subpassCount = 1;
+    info.pSubpasses = &subpass;
+    info.dependencyCount = 2;
+    info.pDependencies = dependencies;
+    VkRenderPass pass = VK_NULL_HANDLE;
+    EXPECT_EQ(vkCreateRenderPass(vk, &info, nullptr, &pass), VK_SUCCESS);
+    return pass;
+  };
+  Scene scene;
+  scene.emitters[0].particles = 4096;
+  scene.emitters[0].rate = 20000.0;
+  GpuSimulation gpu(device(), scene);
+  VkRenderPass pass = makePass();
+  RenderFormats formats{kColor, VK_FORMAT_UNDEFINED, pass};
+  Backdrop backdrop(device(), formats);
+  LineRenderer lines(device(), formats);
+  HostFrames frames(vk, device().framesInFlight());
+  OrbitCamera camera;
+  const VkExtent2D sizes[] = {{240, 180}, {512, 384}, {160, 120}, {640, 400}, {200, 150}};
+  uint32_t frame = 0;
+  for (const VkExtent2D extent : sizes) {
+    SCOPED_TRACE(std::to_string(extent.width) + "x" + std::to_string(extent.height));
+    vkDeviceWaitIdle(vk);  // as a host rebuilding its swapchain
+    vkDestroyRenderPass(vk, pass, nullptr);
+    pass = makePass();
+    lines.setExtent(extent);
+    const HostImage image(host, extent, kColor,
+                          VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                          VK_IMAGE_ASPECT_COLOR_BIT);
+    const HostReadback readback(host, VkDeviceSize{extent.width} * extent.height * 4);
+    VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+    fb.renderPass = pass;
+    fb.attachmentCount = 1;
+    fb.pAttachments = &image.view;
+    fb.width = extent.width;
+    fb.height = extent.height;
+    fb.layers = 1;
+    VkFramebuffer framebuffer = VK_NULL_HANDLE;
+    ASSERT_EQ(vkCreateFramebuffer(vk, &fb, nullptr, &framebuffer), VK_SUCCESS);
+    const View view{camera.viewProj(float(extent.width) / float(extent.height)), extent,
+                    camera.eye()};
+    for (uint32_t i = 0; i < 2; ++i, ++frame) {
+      const uint32_t slot = frame % device().framesInFlight();
+      lines.setMode(i ? LineMode::Splat : LineMode::Lines);
+      VkCommandBuffer cmd = frames.begin(slot);
+      gpu.update(slot, 40);
+      gpu.recordSimulate(cmd, slot);
+      lines.recordPrepare(cmd, slot, gpu, view);
+      VkClearValue clear{};
+      clear.color = {{0.01f, 0.01f, 0.02f, 1.0f}};
+      VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+      begin.renderPass = pass;
+      begin.framebuffer = framebuffer;
+      begin.renderArea = {{0, 0}, extent};
+      begin.clearValueCount = 1;
+      begin.pClearValues = &clear;
+      vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+      backdrop.recordDraw(cmd, view, scene);
+      lines.recordDraw(cmd, slot, gpu, view);
+      vkCmdEndRenderPass(cmd);
+      VkBufferImageCopy region{};
+      region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+      region.imageExtent = {extent.width, extent.height, 1};
+      vkCmdCopyImageToBuffer(cmd, image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                             readback.buffer, 1, &region);
+      VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr,
+                             VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT};
+      vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
+                           &toHost, 0, nullptr, 0, nullptr);
+      frames.submit(host.queue, slot);
+      vkDeviceWaitIdle(vk);
+      const std::vector<uint8_t> pixels = readback.read();
+      size_t lit = 0;
+      for (size_t p = 0; p < pixels.size(); p += 4) lit += pixels[p + 2] > 150;  // red: lava
+      EXPECT_GT(lit, 20u) << (i ? "splat" : "lines");
+    }
+    vkDestroyFramebuffer(vk, framebuffer, nullptr);
+  }
+  vkDeviceWaitIdle(vk);
+  vkDestroyRenderPass(vk, pass, nullptr);
 }
 
 }  // namespace

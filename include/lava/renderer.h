@@ -16,14 +16,17 @@ namespace lava {
 
 class GpuSimulation;
 
-// Where Lava draws: the host's attachments, a color format and a depth format or
-// VK_FORMAT_UNDEFINED (none), in dynamic rendering; or, with `renderPass`, subpass `subpass`
-// of that render pass (or of one compatible with it: the same attachments' formats and
-// sample counts), as Dear ImGui's backend does. The subpass has one color attachment, single
-// sampled, and a depth attachment exactly when `depth` is not UNDEFINED (Lava only tests
-// against it: its layout may be DEPTH_STENCIL_READ_ONLY_OPTIMAL; the Backdrop writes it).
+// Where Lava draws: the host's attachments, a color format (UNORM: the lava look blends in
+// [0, 1]) and a depth format or VK_FORMAT_UNDEFINED (none), in dynamic rendering; or, with
+// `renderPass`, subpass `subpass` of that render pass or of any pass compatible with it, as
+// Dear ImGui's backend does. The subpass has one color attachment, single sampled, and a
+// depth attachment exactly when `depth` is not UNDEFINED (Lava only tests against it: its
+// layout may be DEPTH_STENCIL_READ_ONLY_OPTIMAL; the Backdrop writes it).
 // Lava's barriers are recorded outside the pass, so the subpass needs no dependency for
 // Lava's own work; the host's dependencies cover its attachments as for any draw.
+// Lifetime: `renderPass` is read only during the LineRenderer or Backdrop constructor, which
+// builds every pipeline it will use for it; Lava keeps no handle of it, so the host may
+// destroy it right after and draw in a compatible pass it remakes at every resize.
 struct RenderFormats {
   VkFormat color = VK_FORMAT_R8G8B8A8_UNORM;
   VkFormat depth = VK_FORMAT_D32_SFLOAT;
@@ -77,9 +80,10 @@ class LAVA_API LineRenderer {
   void setSettings(const LookSettings& settings);
   const LookSettings& settings() const;
   // Not a recording call: sizes the splat's and the glow's per-frame buffers for targets
-  // of `extent` (allocates, and builds the pipelines that read the splat's sums and the
-  // glow's cells on the first call or when either outgrows the device's texel views, which
-  // the spec lets hold as few as 65,536 texels; call it before recording for a new size,
+  // of `extent` (allocates, and in dynamic rendering builds the pipelines that read the
+  // splat's sums and the glow's cells on the first call or when either outgrows the device's
+  // texel views, which the spec lets hold as few as 65,536 texels; for a render pass the
+  // constructor built them all; call it before recording for a new size,
   // when no frame using the old buffers is pending), for each frame slot in use (a slot's
   // first recordPrepare() adds its own). recordPrepare() requires view.extent == the last
   // setExtent().

@@ -22,7 +22,9 @@ class LAVA_API Simulation {
   virtual ~Simulation();
   const Scene& scene() const { return scene_; }
   // Replaces the parameters from the next step on; the emitters and their capacities must
-  // stay the same (InvalidArgument otherwise).
+  // stay the same (InvalidArgument otherwise). Not blocking: it records, submits and waits
+  // for nothing (the GPU's builds the pipelines the new scene needs, if new), so a host may
+  // call it from its UI between frames.
   virtual void setScene(const Scene& scene);
   // Blocking: runs `steps` steps.
   virtual void advance(uint64_t steps) = 0;
@@ -158,6 +160,7 @@ class LAVA_API GpuSimulation final : public Simulation {
   double advanceTimed(uint64_t steps);
   State state() override;
   void setState(const State& state) override;
+  // Not blocking (see Simulation): the frames recorded after it step the new scene.
   void setScene(const Scene& scene) override;
   std::string name() const override;
 

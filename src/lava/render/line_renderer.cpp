@@ -80,22 +80,30 @@ struct LineRenderer::Impl {
   LookStyle style = LookStyle::Lava;
   LookSettings settings;
   detail::UniqueSampler nearest;
-  detail::UniqueDescriptorSetLayout lineSet, splatSet, resolveSet, glowSet, glowDrawSet, rockSet;
-  detail::UniquePipelineLayout lineLayout, splatLayout, resolveLayout, glowLayout, glowDrawLayout;
+  detail::UniqueDescriptorSetLayout lineSet, splatSet, glowSet, rockSet;
+  detail::UniquePipelineLayout lineLayout, splatLayout, glowLayout;
   detail::UniquePipelineLayout rockLayout;
   detail::UniquePipeline rock;  // the flow as molten rock
-  detail::UniquePipeline plainLines, lavaLines, splatPipeline, plainResolve, lavaResolve, glowDraw;
-  detail::UniquePipeline glowResolve;  // the glow's quads resolving the splat's sums too
-  detail::UniquePipeline glowSplat, glowLight;
-  detail::UniquePipeline glowLightResolve;  // lists the quads over the splat's marked tiles too
-  detail::Image noDepth;                    // 1x1, bound when the splat is given no scene depth
-  // Whether the draws read the splat's sums through a texel view (setExtent: where the
-  // target's sums fit in one) or as a storage buffer, and the same for the glow's cells
-  // (the light pass reads their sums, the quads their light); createSizedPipelines builds
-  // the pipelines that read them (and the glow's quads without the sums, which share their
-  // layout) for one or the other.
-  bool sumsAsTexels = false;
-  bool cellsAsTexels = false;
+  detail::UniquePipeline plainLines, lavaLines, splatPipeline;
+  detail::UniquePipeline glowSplat;
+  detail::Image noDepth;  // 1x1, bound when the splat is given no scene depth
+  // The pipelines that read the splat's sums (the resolve; the glow's quads, which may
+  // resolve them too) or the glow's cells (its light pass, its quads), for each read through
+  // a texel view (setExtent: where the target's fit in one) or as a storage buffer.
+  struct Sized {
+    bool sumsAsTexels, cellsAsTexels;
+    detail::UniqueDescriptorSetLayout resolveSet, glowDrawSet;
+    detail::UniquePipelineLayout resolveLayout, glowDrawLayout;
+    detail::UniquePipeline plainResolve, lavaResolve, glowDraw;
+    detail::UniquePipeline glowResolve;  // the glow's quads resolving the splat's sums too
+    detail::UniquePipeline glowLight;
+    detail::UniquePipeline glowLightResolve;  // lists the quads over the splat's marked tiles too
+  };
+  // Built on first need for dynamic rendering; for a render pass, every pair a target can
+  // need (cells as buffers only when the sums are too) in the constructor, the only call
+  // that reads the host's pass, which the host may destroy and remake at any resize.
+  std::vector<std::unique_ptr<Sized>> sizedPipelines;
+  const Sized* sized = nullptr;  // setExtent()'s
   // Set-up recorded by the next recordPrepare(): noDepth's first layout, and the glow's
   // quad lists of new slots emptied (a frame's draw may come before any prepare has listed
   // its quads).
@@ -118,13 +126,13 @@ struct LineRenderer::Impl {
 
   Impl(detail::DeviceContext& context, const RenderFormats& f) : c(context), formats(f) {}
 
-  void createSizedPipelines(bool sumsTexels, bool cellsTexels);
+  const Sized& sizedFor(bool sumsTexels, bool cellsTexels);
   // Per-slot resources for `count` slots (those for the extent once it is set).
   void grow(uint32_t count);
   void addSizedSlot();
   // Slot `frame`'s sums, bound at `binding` as the draws read them.
   detail::Descriptors& sums(detail::Descriptors& d, uint32_t binding, uint32_t frame) const {
-    return sumsAsTexels
+    return sized->sumsAsTexels
                ? d.texels(binding, accumulationTexels[frame])
                : d.buffer(binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, accumulation[frame].get());
   }
@@ -198,6 +206,13 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats)
       detail::createImage(c, {1, 1}, VK_FORMAT_D32_SFLOAT,
                           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
                           VK_IMAGE_ASPECT_DEPTH_BIT);
+  if (formats.renderPass) {  // the host's pass is not kept: each pair setExtent() may need
+    // (cells as buffers only when the sums are buffers too: there are fewer cells)
+    m.sizedFor(true, true);
+    m.sizedFor(false, true);
+    m.sizedFor(false, false);
+    m.formats.renderPass = VK_NULL_HANDLE;
+  }
 }
 
 LineRenderer::~LineRenderer() = default;
@@ -232,14 +247,18 @@ const LookSettings& LineRenderer::settings() const {
   return impl_->settings;
 }
 
-// The pipelines that read the splat's sums (the resolve; the glow's quads, which may resolve
-// them too) or the glow's cells (its light pass, its quads), for each read through a texel
-// view or as a storage buffer.
-void LineRenderer::Impl::createSizedPipelines(bool sumsTexels, bool cellsTexels) {
-  resolveSet = detail::createSetLayout(c, {readAs(sumsTexels), VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-                                       kDrawStages);
-  resolveLayout =
-      detail::createPipelineLayout(c, resolveSet, kDrawStages, sizeof(gpu::SplatParams));
+// Sized's pipelines for sums and cells read through texel views or as storage buffers.
+const LineRenderer::Impl::Sized& LineRenderer::Impl::sizedFor(bool sumsTexels, bool cellsTexels) {
+  for (const std::unique_ptr<Sized>& built : sizedPipelines)
+    if (built->sumsAsTexels == sumsTexels && built->cellsAsTexels == cellsTexels) return *built;
+  auto p = std::make_unique<Sized>();
+  Sized& z = *p;
+  z.sumsAsTexels = sumsTexels;
+  z.cellsAsTexels = cellsTexels;
+  z.resolveSet = detail::createSetLayout(
+      c, {readAs(sumsTexels), VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, kDrawStages);
+  z.resolveLayout =
+      detail::createPipelineLayout(c, z.resolveSet, kDrawStages, sizeof(gpu::SplatParams));
   detail::GraphicsPipelineDesc resolve{
       LAVA_SPIRV(spirv::kResolveVertSpv),
       sumsTexels ? LAVA_SPIRV(spirv::kResolveFragSpv) : LAVA_SPIRV(spirv::kResolveBufferFragSpv),
@@ -247,33 +266,34 @@ void LineRenderer::Impl::createSizedPipelines(bool sumsTexels, bool cellsTexels)
   resolve.additive = true;
   resolve.depthTest = false;
   resolve.depthWrite = false;
-  plainResolve = detail::createGraphicsPipeline(c, resolveLayout, resolve);
+  z.plainResolve = detail::createGraphicsPipeline(c, z.resolveLayout, resolve);
   resolve.additive = false;
   resolve.screen = true;
-  lavaResolve = detail::createGraphicsPipeline(c, resolveLayout, resolve);
+  z.lavaResolve = detail::createGraphicsPipeline(c, z.resolveLayout, resolve);
 
-  glowDrawSet = detail::createSetLayout(
+  z.glowDrawSet = detail::createSetLayout(
       c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, readAs(cellsTexels), readAs(sumsTexels)}, kDrawStages);
-  glowDrawLayout =
-      detail::createPipelineLayout(c, glowDrawSet, kDrawStages, sizeof(gpu::GlowParams));
+  z.glowDrawLayout =
+      detail::createPipelineLayout(c, z.glowDrawSet, kDrawStages, sizeof(gpu::GlowParams));
   detail::GraphicsPipelineDesc quads{
       cellsTexels ? LAVA_SPIRV(spirv::kGlowVertSpv) : LAVA_SPIRV(spirv::kGlowVertBufferSpv),
       LAVA_SPIRV(spirv::kGlowFragSpv), formats};
   quads.screen = true;
   quads.depthTest = false;
   quads.depthWrite = false;
-  glowDraw = detail::createGraphicsPipeline(c, glowDrawLayout, quads);
+  z.glowDraw = detail::createGraphicsPipeline(c, z.glowDrawLayout, quads);
   quads.frag = sumsTexels ? LAVA_SPIRV(spirv::kGlowResolveFragSpv)
                           : LAVA_SPIRV(spirv::kGlowResolveBufferFragSpv);
-  glowResolve = detail::createGraphicsPipeline(c, glowDrawLayout, quads);
-  sumsAsTexels = sumsTexels;
+  z.glowResolve = detail::createGraphicsPipeline(c, z.glowDrawLayout, quads);
 
   const detail::Spirv light =
       cellsTexels ? LAVA_SPIRV(spirv::kGlowLightSpv) : LAVA_SPIRV(spirv::kGlowLightBufferSpv);
-  glowLight = detail::createComputePipeline(c, glowLayout, light, {gpu::kWorkgroupSize, VK_FALSE});
-  glowLightResolve =
+  z.glowLight =
+      detail::createComputePipeline(c, glowLayout, light, {gpu::kWorkgroupSize, VK_FALSE});
+  z.glowLightResolve =
       detail::createComputePipeline(c, glowLayout, light, {gpu::kWorkgroupSize, VK_TRUE});
-  cellsAsTexels = cellsTexels;
+  sizedPipelines.push_back(std::move(p));
+  return z;
 }
 
 void LineRenderer::setExtent(VkExtent2D extent) {
@@ -301,8 +321,7 @@ void LineRenderer::setExtent(VkExtent2D extent) {
   const bool sumTexels = m.sumCount <= m.c.limits.maxTexelBufferElements;
   // The glow's cells the same (the minimum holds 4K's 32,400 cells, not 8K's 129,600).
   const bool cellTexels = cells <= m.c.limits.maxTexelBufferElements;
-  if (!m.plainResolve || sumTexels != m.sumsAsTexels || cellTexels != m.cellsAsTexels)
-    m.createSizedPipelines(sumTexels, cellTexels);
+  m.sized = &m.sizedFor(sumTexels, cellTexels);
   m.extent = extent;
   m.grow(m.used);
 }
@@ -317,9 +336,9 @@ void LineRenderer::Impl::addSizedSlot() {
   const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   accumulation.emplace_back(c, sumCount * sizeof(uint32_t),
                             storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-                                (sumsAsTexels ? VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT : 0),
+                                (sized->sumsAsTexels ? VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT : 0),
                             detail::MemoryUse::Device);
-  if (sumsAsTexels)
+  if (sized->sumsAsTexels)
     accumulationTexels.push_back(detail::createTexelView(c, accumulation.back().get(),
                                                          VK_WHOLE_SIZE, VK_FORMAT_R32_UINT));
   marks.emplace_back(c, VkDeviceSize{tiles.x} * tiles.y * sizeof(uint32_t),
@@ -327,11 +346,11 @@ void LineRenderer::Impl::addSizedSlot() {
   const VkDeviceSize cells = VkDeviceSize{grid.x} * grid.y;
   GlowSlot g;
   const VkBufferUsageFlags cellUse =
-      storage | (cellsAsTexels ? VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT : 0);
+      storage | (sized->cellsAsTexels ? VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT : 0);
   g.sums = Buffer(c, 2 * cells * sizeof(uint32_t), cellUse | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                   detail::MemoryUse::Device);
   g.light = Buffer(c, cells * 2 * sizeof(float), cellUse, detail::MemoryUse::Device);
-  if (cellsAsTexels) {
+  if (sized->cellsAsTexels) {
     g.sumTexels = detail::createTexelView(c, g.sums.get(), VK_WHOLE_SIZE, VK_FORMAT_R32G32_UINT);
     g.lightTexels =
         detail::createTexelView(c, g.light.get(), VK_WHOLE_SIZE, VK_FORMAT_R32G32_SFLOAT);
@@ -438,7 +457,7 @@ void LineRenderer::Impl::bindGlow(VkCommandBuffer commands, uint32_t frame, VkBu
       .buffer(gpu::kGlowMarksBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, marks[frame].get());
   // Without texel views of the cells the light pass reads the sums' buffer (binding 1) and
   // no module uses this binding.
-  if (cellsAsTexels) descriptors.texels(gpu::kGlowSumTexelsBinding, g.sumTexels);
+  if (sized->cellsAsTexels) descriptors.texels(gpu::kGlowSumTexelsBinding, g.sumTexels);
   descriptors.bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, glowLayout, glowSet, sets[frame]);
   c.vk.CmdPushConstants(commands, glowLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
                         &params);
@@ -471,7 +490,7 @@ void LineRenderer::Impl::recordGlowLight(VkCommandBuffer commands, uint32_t fram
                                          const GpuSimulation& simulation,
                                          const gpu::GlowParams& params, bool resolves) const {
   c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE,
-                       resolves ? glowLightResolve : glowLight);
+                       resolves ? sized->glowLightResolve : sized->glowLight);
   bindGlow(commands, frame, simulation.chunks().front().texels, params);
   // One workgroup per tile of quads (there is one quad more than cells across and down).
   c.vk.CmdDispatch(commands, grid.x / gpu::kGlowTile + 1, grid.y / gpu::kGlowTile + 1, 1);
@@ -590,31 +609,31 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
   } else if (!glow) {
     const gpu::SplatParams params = splatParams(simulation, view, m.style, m.settings);
     m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
-                           lava ? m.lavaResolve : m.plainResolve);
+                           lava ? m.sized->lavaResolve : m.sized->plainResolve);
     detail::Descriptors descriptors;
     m.sums(descriptors, gpu::kResolveSumsBinding, frame)
         .buffer(gpu::kResolveMarksBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m.marks[frame].get())
-        .bind(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.resolveLayout, m.resolveSet,
+        .bind(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.sized->resolveLayout, m.sized->resolveSet,
               m.sets[frame]);
-    m.c.vk.CmdPushConstants(commands, m.resolveLayout, kDrawStages, 0, sizeof(params), &params);
+    m.c.vk.CmdPushConstants(commands, m.sized->resolveLayout, kDrawStages, 0, sizeof(params), &params);
     m.c.vk.CmdDraw(commands, 6 * m.tiles.x * m.tiles.y, 1, 0, 0);
   }
   if (!glow) return;
   const GlowSlot& g = m.glow[frame];
   const gpu::GlowParams params = glowParams(simulation, view, m.settings, m.grid);
   m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
-                         splat ? m.glowResolve : m.glowDraw);
+                         splat ? m.sized->glowResolve : m.sized->glowDraw);
   detail::Descriptors descriptors;
   descriptors.buffer(gpu::kGlowDrawListBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.list.get());
-  if (m.cellsAsTexels)
+  if (m.sized->cellsAsTexels)
     descriptors.texels(gpu::kGlowDrawLightBinding, g.lightTexels);
   else
     descriptors.buffer(gpu::kGlowDrawLightBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                        g.light.get());
   if (splat) m.sums(descriptors, gpu::kGlowDrawSumsBinding, frame);
-  descriptors.bind(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.glowDrawLayout, m.glowDrawSet,
+  descriptors.bind(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.sized->glowDrawLayout, m.sized->glowDrawSet,
                    m.sets[frame]);
-  m.c.vk.CmdPushConstants(commands, m.glowDrawLayout, kDrawStages, 0, sizeof(params), &params);
+  m.c.vk.CmdPushConstants(commands, m.sized->glowDrawLayout, kDrawStages, 0, sizeof(params), &params);
   m.c.vk.CmdDrawIndirect(commands, g.list.get(), 0, 1, sizeof(VkDrawIndirectCommand));
 }
 
