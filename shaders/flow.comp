@@ -148,6 +148,36 @@ float pairDistance(precise float q, precise vec3 d, uint i, uint j, out precise 
   return r;
 }
 
+// floor(sqrt(m)), exactly: the float root corrected in integers (flow/lattice.cpp).
+uint integerRoot(uint m) {
+  uint w = uint(sqrt(float(m)));
+  while (w * w > m) --w;
+  while ((w + 1u) * (w + 1u) <= m) ++w;
+  return w;
+}
+
+// A ball's row (j, k): 2 w + 1 sites, w its half-width; 0 outside.
+uint rowSites(const uvec4 s, int j, int k) {
+  const int rest = int(s.y) - j * j - k * k;
+  return rest < 0 ? 0u : 2u * integerRoot(uint(rest)) + 1u;
+}
+
+// Lattice site `index` of a flow emitter, as integer offsets (flow/lattice.cpp's latticeSite):
+// a box's along x, then z, then y; a ball's by layer from the bottom, row along z, then x.
+ivec3 latticeSite(const uvec4 s, uint index) {
+  if (s.x == kFillBox)
+    return ivec3(int(index % s.y), int(index / (s.y * s.w)), int((index / s.y) % s.w));
+  const int k = int(s.z), layers = int(s.w);
+  uint rest = index;
+  for (int y = -layers; y <= layers; ++y)
+    for (int z = -k; z <= k; ++z) {
+      const uint row = rowSites(s, y, z);
+      if (rest < row) return ivec3(int(rest) - int(row / 2u), y, z);
+      rest -= row;
+    }
+  return ivec3(0);
+}
+
 // The step's births (the last one landing on each slot wins, as on the host), then the
 // slot's cell and bucket, counted, and what its neighbours will read of it.
 void births(uint f) {
@@ -166,7 +196,14 @@ void births(uint f) {
       const uint serialLo = entry.ring.z + birth;
       const uint serialHi = entry.ring.w + (serialLo < entry.ring.z ? 1u : 0u);
       precise vec3 x, v;
-      emit(k, serialLo, serialHi, x, v);
+      if (fe.lattice.x == kFillRandom) {
+        emit(k, serialLo, serialHi, x, v);
+      } else {  // at rest on its lattice site (a lattice's serials are below its burst)
+        const vec3 centre = fe.lattice.x == kFillBox ? fe.spacing.yzw : vec3(0.0);
+        precise vec3 o = fe.spacing.x * (vec3(latticeSite(fe.lattice, serialLo)) - centre);
+        x = scene.emitters[k].position.xyz + o;
+        v = vec3(0.0);
+      }
       q = Particle(vec4(x, 0.0), vec4(v, scene.emitters[k].velocity.w));
       particles[f] = q;
       heat[f] = FlowHeat(fe.weights.w, 0u);

@@ -218,9 +218,17 @@ struct FlowScratch {
                 // and Laplacian weights: what its neighbours read of it, looked up once
 };
 
+// How a flow emitter places its births (FlowEmitterParams::lattice.x; flow/lattice.h).
+const uint kFillRandom = 0u;  // emit(): the emitter's shape at random, launched
+const uint kFillBox = 1u;     // at rest on the lattice inside a box
+const uint kFillBall = 2u;    // at rest on the lattice inside a sphere or disc
+
 struct FlowEmitterParams {
   vec4 weights;  // x density, y pressure (1/m), z laplacian (s/m^2), w birth temperature (K)
   uvec4 slots;   // x the emitter, y its first flow index, z its first state slot, w capacity
+  uvec4 lattice;  // x kFill*; box: y, z, w sites along x, y, z; ball: y the largest
+                  // i^2 + j^2 + k^2, z its integer root, w the layers each side (disc: 0)
+  vec4 spacing;   // x the lattice's spacing (m); box: y, z, w its centre in sites
 };
 
 // The flow's constants (flow.h's FlowConstants), one copy per frame slot.
@@ -378,7 +386,7 @@ static_assert(sizeof(SceneParams) == 32 + 16 * (96 + 48 + 80), "SceneParams as s
 static_assert(offsetof(SceneParams, forces) == 32 + 16 * 96, "SceneParams members stay vec4s");
 static_assert(sizeof(FlowHeat) == 8 && sizeof(FlowNext) == 48 && sizeof(FlowScratch) == 48,
               "the flow's per-slot records match std430");
-static_assert(sizeof(FlowParams) == 96 + 16 * 16 + 32 * kMaxEmitters,
+static_assert(sizeof(FlowParams) == 96 + 16 * 16 + 64 * kMaxEmitters,
               "FlowParams as std140 lays it out");
 static_assert(sizeof(StepParams) == 32, "StepParams fits any push-constant budget");
 static_assert(sizeof(RockParams) == 96, "RockParams must fit 128 bytes of push constants");

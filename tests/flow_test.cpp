@@ -16,6 +16,7 @@
 #include "scene/keys.h"
 #include "flow_pool.h"
 #include "sim/flow.h"
+#include "sim/reference.h"
 
 namespace lava {
 namespace {
@@ -98,6 +99,115 @@ TEST(FlowKeys, BadValuesNameTheKeyAndWhatIsAccepted) {
   Scene code;
   code.emitters[0].flow = true;  // without Scene::flow
   EXPECT_THROW(checkScene(code), InvalidArgument);
+}
+
+// A flow emitter filled on the lattice: one burst, its spacing (mass / density)^(1/3) = 2 cm.
+std::string latticeScene(const std::string& shape, uint32_t burst, const std::string& extra = "") {
+  return "[flow]\n[[emitter]]\nflow = true\nfill = \"lattice\"\nrate = 0\nmass = 0.0208\n"
+         "particles = 100000\nposition = [0.1, 0.5, -0.2]\nshape = \"" + shape +
+         "\"\nburst = " + std::to_string(burst) + "\n" + extra;
+}
+
+// The sites a lattice emitter's burst takes, as the reference emits them.
+std::vector<Particle> latticeBirths(const Scene& s) {
+  const detail::Reference reference(s);
+  std::vector<Particle> out(s.emitters[0].burst);
+  for (uint32_t i = 0; i < out.size(); ++i) reference.emit(0, i, out[i]);
+  return out;
+}
+
+TEST(FlowLattice, ABoxIsFilledCentredAtRestFromTheBottomUp) {
+  // A box 20 x 10 x 12 cm of 2 cm spacing: 10 x 5 x 6 sites, every one taken.
+  Scene s = parseScene(latticeScene("box", 300, "size = [0.1, 0.05, 0.06]\n"), "f.toml");
+  checkScene(s);
+  const float d = std::cbrt(0.0208f / 2600.0f);
+  ASSERT_NEAR(d, 0.02f, 1e-6f);
+  const std::vector<Particle> births = latticeBirths(s);
+  double cx = 0, cy = 0, cz = 0;
+  for (size_t i = 0; i < births.size(); ++i) {
+    const Particle& p = births[i];
+    EXPECT_EQ(p.vx, 0.0f);
+    EXPECT_EQ(p.vy, 0.0f);
+    EXPECT_EQ(p.vz, 0.0f);
+    EXPECT_LE(std::fabs(p.px - 0.1f), 0.1f) << i;
+    EXPECT_LE(std::fabs(p.py - 0.5f), 0.05f) << i;
+    EXPECT_LE(std::fabs(p.pz + 0.2f), 0.06f) << i;
+    cx += p.px, cy += p.py, cz += p.pz;
+    float nearest = 1e9f;
+    for (size_t j = 0; j < births.size(); ++j)
+      if (j != i)
+        nearest = std::min(nearest, std::hypot(std::hypot(p.px - births[j].px,
+                                                          p.py - births[j].py),
+                                               p.pz - births[j].pz));
+    EXPECT_NEAR(nearest, d, 1e-5f) << i;
+  }
+  const double n = double(births.size());
+  EXPECT_NEAR(cx / n, 0.1, 1e-6);  // centred
+  EXPECT_NEAR(cy / n, 0.5, 1e-6);
+  EXPECT_NEAR(cz / n, -0.2, 1e-6);
+  // A smaller burst fills whole layers from the bottom up: 60 sites are the lowest layer.
+  s.emitters[0].burst = 60;
+  for (const Particle& p : latticeBirths(s)) EXPECT_NEAR(p.py, 0.5f - 2.0f * d, 1e-6f);
+}
+
+TEST(FlowLattice, SpheresAndDiscsHoldTheSitesWithinTheirRadius) {
+  for (const char* shape : {"sphere", "disc"}) {
+    SCOPED_TRACE(shape);
+    const bool sphere = std::string(shape) == "sphere";
+    // Too many: refused, naming how many fit.
+    const std::string refused = errorOf(latticeScene(shape, 100000, "radius = 0.1\n"));
+    EXPECT_NE(refused.find("emitter[0].burst: expected 1 to "), std::string::npos) << refused;
+    const size_t from = refused.find("sites of");
+    ASSERT_NE(from, std::string::npos) << refused;
+    const uint32_t sites = uint32_t(std::stoul(refused.substr(refused.find(" to ") + 4)));
+    // About the shape's volume (area) in sites of 2 cm: 4/3 pi 5^3 = 524, pi 5^2 = 79.
+    const double expected = sphere ? 4.0 / 3.0 * 3.14159265 * 125.0 : 3.14159265 * 25.0;
+    EXPECT_NEAR(double(sites), expected, 0.1 * expected);
+    Scene s = parseScene(latticeScene(shape, sites, "radius = 0.1\n"), "f.toml");
+    checkScene(s);
+    const std::vector<Particle> births = latticeBirths(s);
+    double cx = 0, cy = 0, cz = 0;
+    for (size_t i = 0; i < births.size(); ++i) {
+      const Particle& p = births[i];
+      const float dx = p.px - 0.1f, dy = p.py - 0.5f, dz = p.pz + 0.2f;
+      EXPECT_LE(std::sqrt(dx * dx + dy * dy + dz * dz), 0.1f + 1e-6f) << i;
+      if (!sphere) {
+        EXPECT_EQ(p.py, 0.5f);
+      }
+      for (size_t j = 0; j < i; ++j)
+        ASSERT_FALSE(p.px == births[j].px && p.py == births[j].py && p.pz == births[j].pz)
+            << "sites " << i << " and " << j << " coincide";
+      cx += dx, cy += dy, cz += dz;
+    }
+    EXPECT_NEAR(cx, 0.0, 1e-4);  // symmetric about the centre
+    EXPECT_NEAR(cy, 0.0, 1e-4);
+    EXPECT_NEAR(cz, 0.0, 1e-4);
+  }
+}
+
+TEST(FlowLattice, WhatALatticeCannotTakeIsRefusedByItsKey) {
+  EXPECT_NE(errorOf(latticeScene("point", 10)).find("emitter[0].fill: \"lattice\" fills a box, "
+                                                    "sphere or disc"),
+            std::string::npos);
+  EXPECT_EQ(errorOf(latticeScene("box", 1000, "size = [0.1, 0.1, 0.1]\n")), "");
+  const std::string rate =
+      errorOf("[flow]\n[[emitter]]\nflow = true\nfill = \"lattice\"\nshape = \"box\"\n"
+              "mass = 0.0208\nburst = 10\n");
+  EXPECT_NE(rate.find("emitter[0].rate: expected 0 with fill = \"lattice\""), std::string::npos)
+      << rate;
+  EXPECT_NE(errorOf(latticeScene("box", 10, "burst-interval = 2\n")).find("emitter[0].burst-interval"),
+            std::string::npos);
+  EXPECT_NE(errorOf(latticeScene("box", 0)).find("emitter[0].burst: expected 1 to 1000"),
+            std::string::npos);
+  EXPECT_NE(errorOf("[[emitter]]\nfill = \"lattice\"\nshape = \"box\"\nrate = 0\nburst = 1\n")
+                .find("emitter[0].fill: \"lattice\" fills a flow emitter"),
+            std::string::npos);
+  EXPECT_NE(errorOf("[flow]\n[[emitter]]\nflow = true\nfill = \"grid\"\n")
+                .find("emitter[0].fill: expected one of random, lattice, got 'grid'"),
+            std::string::npos);
+  // Written out and read back.
+  const Scene s = parseScene(latticeScene("box", 10), "f.toml");
+  EXPECT_EQ(parseScene(toToml(s), "g.toml").emitters[0].fill, Fill::Lattice);
 }
 
 TEST(FlowKeys, ViscosityIsExactAtBothEndsAndMonotoneBetween) {

@@ -23,6 +23,10 @@ enum class Shape : uint32_t { Point, Disc, Sphere, Box };
 enum class Integrator : uint32_t { ExplicitEuler, SemiImplicitEuler, VelocityVerlet };
 enum class ForceType : uint32_t { Attractor, Vortex };
 enum class ColliderType : uint32_t { Plane, Sphere, Box, Cone };
+// How a flow emitter places its births: at random in its shape, launched (the default), or
+// its one burst at rest on the cubic lattice of its spacing, centred in its box, sphere or
+// disc (docs/model.md, "Lattice fill").
+enum class Fill : uint32_t { Random, Lattice };
 
 // One emitter: a ring of `particles` slots of its own, reborn oldest first.
 struct Emitter {
@@ -40,6 +44,7 @@ struct Emitter {
   float lifetime = 0.0f;            // s; 0: lives until its slot is reborn
   bool flow = false;                // its particles are the flow's (Scene::flow)
   float temperature = 0.0f;         // K at birth, flow emitters; 0: the flow's temperature
+  Fill fill = Fill::Random;         // flow emitters: Lattice takes one burst at step 0, rate 0
 };
 
 // A force added to gravity, wind and drag, in order.
@@ -138,5 +143,6 @@ LAVA_API const char* name(Shape shape);
 LAVA_API const char* name(Integrator integrator);
 LAVA_API const char* name(ForceType type);
 LAVA_API const char* name(ColliderType type);
+LAVA_API const char* name(Fill fill);
 
 }  // namespace lava

@@ -250,7 +250,13 @@ std::vector<KeyDef> emitterKeys(bool flat) {
     keys.push_back(floatKey("temperature", "flow particles' temperature at birth (K; 0: [flow]'s)",
                             kTemperature,
                             [e](Scene& s, size_t i) -> float& { return e(s, i).temperature; }));
-    keys[keys.size() - 2].flowOnly = keys[keys.size() - 1].flowOnly = true;
+    keys.push_back(nameKey<Fill>(
+        "fill",
+        "where a flow emitter's births go: random in its shape, launched; or lattice, one "
+        "burst at rest on the cubic lattice of spacing (mass/density)^(1/3) centred in its "
+        "box, sphere or disc",
+        2, [e](Scene& s, size_t i) -> Fill& { return e(s, i).fill; }));
+    for (size_t k = keys.size() - 3; k < keys.size(); ++k) keys[k].flowOnly = true;
   }
   for (KeyDef& k : keys) k.emitterZero = flat;
   return keys;

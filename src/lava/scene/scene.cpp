@@ -1,6 +1,7 @@
 // The scene's derived figures, its validation, and the names of its enums.
 #include <cmath>
 
+#include "flow/lattice.h"
 #include "keys.h"
 #include "lava/error.h"
 #include "lava/scene.h"
@@ -44,8 +45,36 @@ void checkCount(size_t count, uint32_t most, const char* table) {
                                      "]] tables, got " + std::to_string(count));
 }
 
+// A lattice fill is one burst at step 0 of a flow emitter, no larger than its lattice.
+void checkLattice(const Scene& scene, size_t k) {
+  const Emitter& e = scene.emitters[k];
+  if (e.fill != Fill::Lattice) return;
+  const std::string at = "emitter[" + std::to_string(k) + "].";
+  const std::string why = "fill = \"lattice\" places one burst at step 0";
+  if (e.rate != 0.0)
+    throw InvalidArgument(at + "rate", "expected 0 with " + why + ", got " +
+                                           detail::formatDouble(e.rate));
+  if (e.burstInterval != 0.0)
+    throw InvalidArgument(at + "burst-interval", "expected 0 with " + why + ", got " +
+                                                     detail::formatDouble(e.burstInterval));
+  const uint64_t sites = detail::flowLattice(scene, k).sites;
+  if (e.burst < 1 || e.burst > sites)
+    throw InvalidArgument(at + "burst",
+                          "expected 1 to " + std::to_string(sites) + " with " + why + ": " +
+                              std::to_string(sites) + " sites of " +
+                              detail::formatFloat(float(std::cbrt(double(e.mass) /
+                                                                  double(scene.flow->density)))) +
+                              " m fit in its " + name(e.shape) + ", got " +
+                              std::to_string(e.burst));
+}
+
 // The flow's keys and how they bound each other and the flow emitters' masses.
 void checkFlow(const Scene& scene) {
+  for (size_t k = 0; k < scene.emitters.size(); ++k)
+    if (scene.emitters[k].fill == Fill::Lattice && !scene.emitters[k].flow)
+      throw InvalidArgument("emitter[" + std::to_string(k) + "].fill",
+                            "\"lattice\" fills a flow emitter (flow = true): its spacing is "
+                            "(mass / flow.density)^(1/3)");
   if (!scene.flow) {
     for (size_t k = 0; k < scene.emitters.size(); ++k)
       if (scene.emitters[k].flow)
@@ -88,6 +117,7 @@ void checkFlow(const Scene& scene) {
               formatFloat(float(double(f.density) * hi * hi * hi)) + "] kg (a table without " +
               "mass gets " + formatFloat(detail::defaultFlowMass(f)) + ")");
   }
+  for (size_t k = 0; k < scene.emitters.size(); ++k) checkLattice(scene, k);
 }
 
 }  // namespace
@@ -173,6 +203,16 @@ const char* name(ColliderType type) {
       return "box";
     case ColliderType::Cone:
       return "cone";
+  }
+  return "?";
+}
+
+const char* name(Fill fill) {
+  switch (fill) {
+    case Fill::Random:
+      return "random";
+    case Fill::Lattice:
+      return "lattice";
   }
   return "?";
 }

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "constants.h"
+#include "flow/lattice.h"
 #include "model-inl.h"
 #include "reference.h"
 
@@ -156,6 +157,9 @@ gpu::FlowParams flowParams(const Scene& scene) {
     p.emitters[n].weights = {w.density, w.pressure, w.laplacian, w.birth};
     p.emitters[n].slots = {uint32_t(e), uint32_t(slots), uint32_t(scene.firstSlot(e)),
                            scene.emitters[e].particles};
+    const Lattice lattice = flowLattice(scene, e);
+    p.emitters[n].lattice = lattice.shape;
+    p.emitters[n].spacing = lattice.spacing;
     slots += scene.emitters[e].particles;
     ++n;
   }

@@ -52,8 +52,10 @@ Reference::Reference(const Scene& scene) : scene_(scene) {
                      scene.colliders.empty() && !lifetimes
                  ? Modules::Euler
                  : Modules::Any;
-  for (size_t k = 0; k < scene.emitters.size(); ++k)
+  for (size_t k = 0; k < scene.emitters.size(); ++k) {
     emitters_.push_back(emitterConstants(scene, k));
+    lattices_.push_back(flowLattice(scene, k));
+  }
   for (const Collider& c : scene.colliders) {
     normals_.push_back(c.type == ColliderType::Plane ? unitNormal(c.normal) : Vec3{});
     cones_.push_back(c.type == ColliderType::Cone ? coneConstants(c) : ConeConstants{});
@@ -62,6 +64,11 @@ Reference::Reference(const Scene& scene) : scene_(scene) {
 
 void Reference::emit(size_t emitter, uint64_t serial, Particle& q) const {
   const Emitter& e = scene_.emitters[emitter];
+  if (lattices_[emitter].shape.x != gpu::kFillRandom) {  // at rest on its site
+    const Vec3 x = latticePosition(lattices_[emitter], e.position, uint32_t(serial));
+    q = {x.x, x.y, x.z, 0.0f, 0.0f, 0.0f, 0.0f, e.mass};
+    return;
+  }
   const uint32_t seed = scene_.seed + static_cast<uint32_t>(emitter);
   const V u{draw(seed, serial, 0), draw(seed, serial, 1), draw(seed, serial, 2)};
   const V x = Model::of(e.position) + offset(e, seed, serial);

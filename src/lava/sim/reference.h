@@ -8,6 +8,7 @@
 
 #include "constants.h"
 #include "emission.h"
+#include "flow/lattice.h"
 #include "lava/scene.h"
 #include "lava/state.h"
 
@@ -24,7 +25,8 @@ class Reference {
  public:
   explicit Reference(const Scene& scene);
 
-  // The particle of emitter `emitter` with serial number `serial`, at its birth.
+  // The particle of emitter `emitter` with serial number `serial`, at its birth (a lattice
+  // fill's serials are below its burst: the site of that index).
   void emit(size_t emitter, uint64_t serial, Particle& particle) const;
   // One step of a particle of emitter `emitter`; slots not alive are left as they are.
   void step(size_t emitter, Particle& particle) const;
@@ -52,6 +54,7 @@ class Reference {
   std::vector<EmitterConstants> emitters_;
   std::vector<Vec3> normals_;         // per collider: its plane's unit normal
   std::vector<ConeConstants> cones_;  // per collider: its cone's constants
+  std::vector<Lattice> lattices_;     // per emitter: its lattice fill, if any
 };
 
 // Shorthands for single particles (tests).
