@@ -148,12 +148,19 @@ float pairDistance(precise float q, precise vec3 d, uint i, uint j, out precise 
   return r;
 }
 
-// floor(sqrt(m)), exactly: the float root corrected in integers (flow/lattice.cpp).
+// floor(sqrt(m)) digit by digit in integers (flow/lattice.cpp): no float operation.
 uint integerRoot(uint m) {
-  uint w = uint(sqrt(float(m)));
-  while (w * w > m) --w;
-  while ((w + 1u) * (w + 1u) <= m) ++w;
-  return w;
+  uint root = 0u, bit = 1u << 30;
+  while (bit > m) bit >>= 2;
+  for (; bit != 0u; bit >>= 2) {
+    if (m >= root + bit) {
+      m -= root + bit;
+      root = (root >> 1) + bit;
+    } else {
+      root >>= 1;
+    }
+  }
+  return root;
 }
 
 // A ball's row (j, k): 2 w + 1 sites, w its half-width; 0 outside.

@@ -13,12 +13,19 @@ namespace {
 // short loop, and its count far below 2^32.
 constexpr double kMostAcross = 4096.0;
 
-// floor(sqrt(m)), exactly (the float root corrected in integers), as flow.comp computes it.
+// floor(sqrt(m)) digit by digit in integers, as flow.comp computes it: no float operation.
 uint32_t integerRoot(uint32_t m) {
-  uint32_t w = uint32_t(std::sqrt(float(m)));
-  while (w * w > m) --w;
-  while ((w + 1) * (w + 1) <= m) ++w;
-  return w;
+  uint32_t root = 0, bit = 1u << 30;
+  while (bit > m) bit >>= 2;
+  for (; bit != 0; bit >>= 2) {
+    if (m >= root + bit) {
+      m -= root + bit;
+      root = (root >> 1) + bit;
+    } else {
+      root >>= 1;
+    }
+  }
+  return root;
 }
 
 // The sites of a ball's row (j, k): 2 w + 1, w the row's half-width; 0 outside.
