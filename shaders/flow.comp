@@ -6,7 +6,7 @@
 // with a barrier between each, and copies the flow's particles into the state's chunks after
 // the last step it records.
 //
-// Exactness: as step.comp (every float `precise`, the operations in flow.cpp's order, no
+// Exactness: as step.comp (every float `precise`, the operations in flow/cpu_flow.cpp's order, no
 // square root or division), and every neighbour sum in an order fixed by the state: the
 // buckets' slots are put in flow index order (kFlowOrder) whatever order the scatter's atomics
 // gave them, and the 27 cells are visited z, y, x from -1 to +1.

@@ -231,7 +231,7 @@ struct FlowEmitterParams {
   vec4 spacing;   // x the lattice's spacing (m); box: y, z, w its centre in sites
 };
 
-// The flow's constants (flow.h's FlowConstants), one copy per frame slot.
+// The flow's constants (flow/flow.h's FlowConstants), one copy per frame slot.
 struct FlowParams {
   vec4 kernel;  // x 1 / radius, y 1 / radius^2, z touch distance^2, w c^2 (m^2/s^2)
   vec4 heat;    // x solidus, y temperature, z ambient (K), w the table's scale (1/K)

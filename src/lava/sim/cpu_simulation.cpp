@@ -8,7 +8,7 @@
 #include <optional>
 
 #include "emission.h"
-#include "flow.h"
+#include "flow/flow.h"
 #include "lava/error.h"
 #include "lava/simulation.h"
 #include "reference.h"
@@ -112,17 +112,7 @@ void CpuSimulation::advance(uint64_t steps) {
     }
     // The flow particles interact: all of them go through each step together.
     for (uint64_t i = 0; flow && i < batch; ++i) {
-      for (size_t k = 0; k < scene_.emitters.size(); ++k) {
-        if (!scene_.emitters[k].flow) continue;
-        const detail::Births& b = schedule[k][i];
-        const uint32_t capacity = scene_.emitters[k].particles;
-        for (uint32_t r = 0; r < b.count; ++r) {
-          const uint64_t slot = scene_.firstSlot(k) + (uint64_t(b.head) + r) % capacity;
-          reference.emit(k, b.firstSerial + r, state_.particles[slot]);
-          state_.temperature[slot] = flow->birthTemperature(k);
-          state_.crust[slot] = 0;
-        }
-      }
+      flow->births(state_, schedule, i);
       flow->step(state_);
     }
     steps -= batch;

@@ -9,7 +9,7 @@
 
 #include "common/check.h"
 #include "emission.h"
-#include "flow.h"
+#include "flow/gpu_flow.h"
 #include "lava/error.h"
 #include "lava/simulation.h"
 #include "scene_params.h"
@@ -128,113 +128,11 @@ std::vector<GroupRange> birthGroups(const ScheduleSlot& slot, const ParticleChun
   return merged;
 }
 
-// Compute reads and writes after every earlier write (compute, transfer) and read (draws,
-// copies) of the same buffers.
-void beforeCompute(const detail::DeviceContext& c, VkCommandBuffer commands) {
-  detail::memoryBarrier(
-      c, commands,
-      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
-          VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
-      VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-}
-
-// The one of a shader's four builds (both float controls, signed zeros only, RTE only,
-// neither) whose float controls this device honours.
-detail::Spirv withFloatControls(const detail::DeviceContext& c, detail::Spirv both,
-                                detail::Spirv signedZero, detail::Spirv rte, detail::Spirv plain) {
-  const bool zero = c.floatControls.shaderSignedZeroInfNanPreserveFloat32;
-  const bool even = c.floatControls.shaderRoundingModeRTEFloat32;
-  return zero && even ? both : zero ? signedZero : even ? rte : plain;
-}
-
 detail::Spirv stepShader(const detail::DeviceContext& c) {
-  return withFloatControls(c, LAVA_SPIRV(spirv::kStepCompSpv),
-                           LAVA_SPIRV(spirv::kStepSignedZeroSpv), LAVA_SPIRV(spirv::kStepRteSpv),
-                           LAVA_SPIRV(spirv::kStepPlainSpv));
+  return detail::withFloatControls(
+      c, LAVA_SPIRV(spirv::kStepCompSpv), LAVA_SPIRV(spirv::kStepSignedZeroSpv),
+      LAVA_SPIRV(spirv::kStepRteSpv), LAVA_SPIRV(spirv::kStepPlainSpv));
 }
-
-detail::Spirv flowShader(const detail::DeviceContext& c) {
-  return withFloatControls(c, LAVA_SPIRV(spirv::kFlowCompSpv),
-                           LAVA_SPIRV(spirv::kFlowSignedZeroSpv), LAVA_SPIRV(spirv::kFlowRteSpv),
-                           LAVA_SPIRV(spirv::kFlowPlainSpv));
-}
-
-// flow.comp's grid: each bucket's count and start, the sorted slots, each run's count and
-// start (shared.h, kFlowGridBinding).
-VkDeviceSize flowGridBytes(uint64_t buckets, uint64_t slots) {
-  return (2 * buckets + 1 + slots + 2 * (buckets / gpu::kFlowRun)) * sizeof(uint32_t);
-}
-
-// The flow's own copy of its particles, their heat and its grid (flow.comp), for scenes with
-// flow emitters.
-struct FlowState {
-  // `params`: the scene's flowParams(), for its sizes (they never change with the scene).
-  FlowState(detail::DeviceContext& c, const Scene& scene, const gpu::FlowParams& params)
-      : ranges(detail::flowRanges(scene)),
-        slots(params.sizes.y),
-        buckets(params.sizes.x),
-        particles(c, VkDeviceSize{slots} * kParticleBytes,
-                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                      VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                  MemoryUse::Device),
-        heat(c, VkDeviceSize{slots} * sizeof(gpu::FlowHeat),
-             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                 VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-             MemoryUse::Device),
-        next(c, VkDeviceSize{slots} * sizeof(gpu::FlowNext), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-             MemoryUse::Device),
-        scratch(c, VkDeviceSize{slots} * sizeof(gpu::FlowScratch),
-                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Device),
-        grid(c, gridBytes(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-             MemoryUse::Device),
-        upload(c, VkDeviceSize{slots} * (kParticleBytes + sizeof(gpu::FlowHeat)),
-               VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload),
-        readback(c, VkDeviceSize{slots} * sizeof(gpu::FlowHeat), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                 MemoryUse::Readback) {
-    setLayout = detail::createSetLayout(
-        c,
-        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
-         VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-        VK_SHADER_STAGE_COMPUTE_BIT);
-    layout = detail::createPipelineLayout(c, setLayout, VK_SHADER_STAGE_COMPUTE_BIT,
-                                          sizeof(gpu::FlowStepParams));
-  }
-  VkDeviceSize gridBytes() const { return flowGridBytes(buckets, slots); }
-  // Copies between the state's chunks and the flow's particles (toFlow: chunks to flow).
-  void copy(const detail::DeviceContext& c, VkCommandBuffer commands,
-            const std::vector<ParticleChunk>& chunks, bool toFlow) const {
-    std::vector<VkBufferCopy> regions;
-    for (const ParticleChunk& chunk : chunks) {
-      regions.clear();
-      for (const detail::FlowRange& r : ranges) {
-        const uint64_t first = std::max(r.firstSlot, chunk.first);
-        const uint64_t end = std::min(r.firstSlot + r.count, chunk.first + chunk.count);
-        if (first >= end) continue;
-        const VkDeviceSize inChunk = (first - chunk.first) * kParticleBytes;
-        const VkDeviceSize inFlow = (r.firstIndex + first - r.firstSlot) * kParticleBytes;
-        regions.push_back(toFlow ? VkBufferCopy{inChunk, inFlow, (end - first) * kParticleBytes}
-                                 : VkBufferCopy{inFlow, inChunk, (end - first) * kParticleBytes});
-      }
-      if (regions.empty()) continue;
-      if (toFlow)
-        c.vk.CmdCopyBuffer(commands, chunk.buffer, particles.get(), uint32_t(regions.size()),
-                           regions.data());
-      else
-        c.vk.CmdCopyBuffer(commands, particles.get(), chunk.buffer, uint32_t(regions.size()),
-                           regions.data());
-    }
-  }
-
-  std::vector<detail::FlowRange> ranges;
-  uint32_t slots, buckets;
-  Buffer particles, heat, next, scratch, grid;
-  Buffer upload, readback;  // setState()'s particles then heat; state()'s heat
-  detail::UniqueDescriptorSetLayout setLayout;
-  detail::UniquePipelineLayout layout;
-};
 
 }  // namespace
 
@@ -253,8 +151,7 @@ struct GpuSimulation::Impl {
   detail::UniquePipelineLayout pipelineLayout;
   // One pipeline per set of modules a scene used (kept: a frame in flight may use it).
   std::map<detail::Constants, detail::UniquePipeline> pipelines;
-  std::unique_ptr<FlowState> flow;  // scenes with flow emitters
-  gpu::FlowParams flowParams{};     // the scene's, made when it is set (scenes with a flow)
+  std::unique_ptr<detail::GpuFlow> flow;  // scenes with flow emitters
   std::vector<EmitterClock> clocks;
   uint64_t step = 0;
   bool initPending = true;  // the particles still hold whatever the allocation held
@@ -266,9 +163,6 @@ struct GpuSimulation::Impl {
   // Creates what is missing (`none` too unless onlyBirths: a run that never steps need not
   // compile it).
   StepPipelines pipelinesFor(const Scene& scene, bool onlyBirths = false);
-  VkPipeline flowPipeline(const Scene& scene);
-  // Records the flow's steps planned into `slot`, then its particles into the chunks.
-  void recordFlow(const Scene& scene, VkCommandBuffer commands, ScheduleSlot& slot);
   void plan(const Scene& scene, uint32_t slot, uint32_t steps);
   // Records the steps planned into `slot` and marks them recorded.
   void record(const Scene& scene, VkCommandBuffer commands, uint32_t slot);
@@ -302,16 +196,7 @@ void GpuSimulation::Impl::recordInit(VkCommandBuffer commands) {
       c.vk.CmdCopyBuffer(commands, source.buffer, chunk.buffer, uint32_t(regions.size()),
                          regions.data());
   }
-  if (flow) {  // the flow's copy unborn too, 0 K, no crust; the grid's counts 0
-    regions.clear();
-    const VkDeviceSize bytes = VkDeviceSize{flow->slots} * kParticleBytes;
-    for (VkDeviceSize at = 0; at < bytes; at += block)
-      regions.push_back({0, at, std::min(block, bytes - at)});
-    c.vk.CmdCopyBuffer(commands, source.buffer, flow->particles.get(), uint32_t(regions.size()),
-                       regions.data());
-    c.vk.CmdFillBuffer(commands, flow->heat.get(), 0, VK_WHOLE_SIZE, 0);
-    c.vk.CmdFillBuffer(commands, flow->grid.get(), 0, VK_WHOLE_SIZE, 0);
-  }
+  if (flow) flow->recordInit(commands, source.buffer, block);  // the flow's copy unborn too
   // RAW: steps, draws and read-backs read the particles written here.
   detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
@@ -372,24 +257,7 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
       VK_SHADER_STAGE_COMPUTE_BIT);
   m.pipelineLayout = detail::createPipelineLayout(c, m.setLayout, VK_SHADER_STAGE_COMPUTE_BIT,
                                                   sizeof(gpu::StepParams));
-  if (scene.flows()) {
-    // The flow's buffers are one binding each, its passes one dispatch each: within the
-    // device's binding range, allocation and workgroup count, or refused now.
-    m.flowParams = detail::flowParams(scene);
-    const uint64_t slots = m.flowParams.sizes.y, buckets = m.flowParams.sizes.x;
-    const uint64_t binding = std::max(slots * sizeof(gpu::FlowNext), flowGridBytes(buckets, slots));
-    const uint64_t groups = std::max(slots, buckets) / gpu::kWorkgroupSize + 1;
-    const uint64_t range = std::min<uint64_t>(c.limits.maxStorageBufferRange, c.maxAllocation);
-    if (binding > range || groups > c.limits.maxComputeWorkGroupCount[0])
-      throw InvalidArgument("particles", "the flow's " + std::to_string(slots) + " slots need a " +
-                                             std::to_string(binding >> 20) + " MiB binding and " +
-                                             std::to_string(groups) + " workgroups; device '" +
-                                             c.properties.deviceName + "' allows " +
-                                             std::to_string(range >> 20) + " MiB and " +
-                                             std::to_string(c.limits.maxComputeWorkGroupCount[0]));
-    m.flow = std::make_unique<FlowState>(c, scene, m.flowParams);
-    m.flowPipeline(scene);
-  }
+  if (scene.flows()) m.flow = std::make_unique<detail::GpuFlow>(c, scene);
   m.pipelinesFor(scene, true);
   // The initial state: the clocks here; the particles' writes are recorded by the first
   // recording or blocking call (recordInit()).
@@ -409,8 +277,7 @@ const std::vector<ParticleChunk>& GpuSimulation::chunks() const {
 }
 
 GpuSimulation::FlowBuffers GpuSimulation::flowBuffers() const {
-  const FlowState* f = impl_->flow.get();
-  return f ? FlowBuffers{f->particles.get(), f->heat.get(), f->slots} : FlowBuffers{};
+  return impl_->flow ? impl_->flow->buffers() : FlowBuffers{};
 }
 
 const GpuSimulationOptions& GpuSimulation::options() const {
@@ -428,23 +295,7 @@ uint64_t GpuSimulation::step() const {
 void GpuSimulation::setScene(const Scene& scene) {
   Simulation::setScene(scene);
   impl_->pipelinesFor(scene_);  // created now, not while recording
-  if (impl_->flow) {
-    impl_->flowParams = detail::flowParams(scene_);
-    impl_->flowPipeline(scene_);
-  }
-}
-
-VkPipeline GpuSimulation::Impl::flowPipeline(const Scene& scene) {
-  detail::Constants constants = detail::stepConstants(scene);
-  constants.resize(gpu::kFlowEmittersConstant + 1, 0u);
-  constants[gpu::kFlowEmittersConstant] = UINT32_MAX;  // the flow's key among step.comp's
-  auto it = pipelines.find(constants);
-  if (it == pipelines.end())
-    it = pipelines
-             .emplace(constants,
-                      detail::createComputePipeline(c, flow->layout, flowShader(c), constants))
-             .first;
-  return it->second;
+  if (impl_->flow) impl_->flow->setScene(scene_);
 }
 
 StepPipelines GpuSimulation::Impl::pipelinesFor(const Scene& scene, bool onlyBirths) {
@@ -498,7 +349,7 @@ void GpuSimulation::Impl::plan(const Scene& scene, uint32_t index, uint32_t step
     if (!slot.flowParams.get())
       slot.flowParams =
           Buffer(c, sizeof(gpu::FlowParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemoryUse::Upload);
-    std::memcpy(slot.flowParams.mapped(), &flowParams, sizeof(flowParams));
+    std::memcpy(slot.flowParams.mapped(), &flow->params(), sizeof(gpu::FlowParams));
     slot.flowParams.flush();
   }
   slot.pipelines = pipelinesFor(scene);
@@ -575,61 +426,12 @@ void GpuSimulation::Impl::record(const Scene& scene, VkCommandBuffer commands, u
       dispatch(slot.pipelines.none, next, groups);
     }
   }
-  if (flow) recordFlow(scene, commands, slot);
+  if (flow)
+    flow->record(commands, scene,
+                 {slot.schedule.get(), slot.sceneParams.get(), slot.flowParams.get(), slot.capacity,
+                  &slot.sets},
+                 slot.planned, chunks);
   slot.planned = 0;
-}
-
-void GpuSimulation::Impl::recordFlow(const Scene& scene, VkCommandBuffer commands,
-                                     ScheduleSlot& slot) {
-  // RAW/WAR: an upload or an earlier pass wrote, or a copy into the chunks or a draw read,
-  // the flow's buffers.
-  const auto barrier = [&] { beforeCompute(c, commands); };
-  barrier();
-  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, flowPipeline(scene));
-  const FlowState& f = *flow;
-  detail::Descriptors()
-      .buffer(gpu::kFlowParticleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.particles.get())
-      .buffer(gpu::kScheduleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, slot.schedule.get())
-      .buffer(gpu::kFlowHeatBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.heat.get())
-      .buffer(gpu::kSceneBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, slot.sceneParams.get(), 0,
-              sizeof(gpu::SceneParams))
-      .buffer(gpu::kFlowParamsBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, slot.flowParams.get(), 0,
-              sizeof(gpu::FlowParams))
-      .buffer(gpu::kFlowNextBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.next.get())
-      .buffer(gpu::kFlowScratchBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.scratch.get())
-      .buffer(gpu::kFlowGridBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, f.grid.get())
-      .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, f.layout, f.setLayout, slot.sets);
-  const uint32_t perSlot = detail::groupCount(f.slots, gpu::kWorkgroupSize);
-  const uint32_t perBucket = detail::groupCount(f.buckets, gpu::kWorkgroupSize);
-  uint32_t groups[gpu::kFlowPasses];  // workgroups per pass
-  std::fill_n(groups, gpu::kFlowPasses, perSlot);
-  groups[gpu::kFlowScan] = 1;
-  groups[gpu::kFlowStarts] = detail::groupCount(f.buckets / gpu::kFlowRun, gpu::kWorkgroupSize);
-  groups[gpu::kFlowOrder] = perBucket;
-  gpu::FlowStepParams params{};
-  params.run.z = slot.capacity;
-  for (uint32_t s = 0; s < slot.planned; ++s) {
-    params.run.x = s;
-    for (uint32_t pass = 0; pass < gpu::kFlowPasses; ++pass) {
-      if (s > 0 || pass > 0) barrier();
-      params.run.y = pass;
-      c.vk.CmdPushConstants(commands, f.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
-                            &params);
-      c.vk.CmdDispatch(commands, groups[pass], 1, 1);
-    }
-  }
-  // RAW, and WAW/WAR on the chunks: the copy reads the flow's last results and writes over
-  // what step.comp wrote and draws read.
-  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                        VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                        VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
-  f.copy(c, commands, chunks, false);
-  // RAW: steps, draws and read-backs read the particles copied here.
-  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
-                            VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
-                            VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
 }
 
 void GpuSimulation::update(uint32_t frame, uint32_t steps) {
@@ -702,31 +504,7 @@ void GpuSimulation::setState(const State& state) {
       m.c.vk.CmdCopyBuffer(commands, m.upload.get(), chunk.buffer, 1, &region);
     });
   }
-  if (m.flow) {  // the flow's copy: its particles and heat from the state; the grid's counts 0
-    FlowState& f = *m.flow;
-    auto* particles = static_cast<Particle*>(f.upload.mapped());
-    auto* heat = reinterpret_cast<gpu::FlowHeat*>(particles + f.slots);
-    for (const detail::FlowRange& r : f.ranges)
-      for (uint64_t i = 0; i < r.count; ++i) {
-        const uint64_t slot = r.firstSlot + i;
-        particles[r.firstIndex + i] = state.particles[slot];
-        heat[r.firstIndex + i] = {state.temperature[slot], uint32_t(state.crust[slot])};
-      }
-    f.upload.flush();
-    m.c.submitNow([&](VkCommandBuffer commands) {
-      // WAW/WAR: earlier passes wrote and read what is overwritten here.
-      detail::memoryBarrier(m.c, commands,
-                            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                            VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                            VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
-      const VkDeviceSize particleBytes = VkDeviceSize{f.slots} * kParticleBytes;
-      const VkBufferCopy toParticles{0, 0, particleBytes};
-      const VkBufferCopy toHeat{particleBytes, 0, VkDeviceSize{f.slots} * sizeof(gpu::FlowHeat)};
-      m.c.vk.CmdCopyBuffer(commands, f.upload.get(), f.particles.get(), 1, &toParticles);
-      m.c.vk.CmdCopyBuffer(commands, f.upload.get(), f.heat.get(), 1, &toHeat);
-      m.c.vk.CmdFillBuffer(commands, f.grid.get(), 0, VK_WHOLE_SIZE, 0);
-    });
-  }
+  if (m.flow) m.flow->upload(state);  // its particles and heat; the grid's counts 0
   m.clocks = state.clocks;
   m.step = state.step;
   m.initPending = false;  // every chunk was written
@@ -761,28 +539,7 @@ State GpuSimulation::state() {
     out.temperature.assign(out.particles.size(), 0.0f);
     out.crust.assign(out.particles.size(), 0);
   }
-  if (m.flow) {
-    FlowState& f = *m.flow;
-    m.c.submitNow([&](VkCommandBuffer commands) {
-      // RAW: flow.comp wrote the heat this copy reads; the host reads what it writes.
-      detail::memoryBarrier(m.c, commands,
-                            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                            VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                            VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-      const VkBufferCopy region{0, 0, VkDeviceSize{f.slots} * sizeof(gpu::FlowHeat)};
-      m.c.vk.CmdCopyBuffer(commands, f.heat.get(), f.readback.get(), 1, &region);
-      detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                            VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
-                            VK_ACCESS_HOST_READ_BIT);
-    });
-    f.readback.invalidate();
-    const auto* heat = static_cast<const gpu::FlowHeat*>(f.readback.mapped());
-    for (const detail::FlowRange& r : f.ranges)
-      for (uint64_t i = 0; i < r.count; ++i) {
-        out.temperature[r.firstSlot + i] = heat[r.firstIndex + i].temperature;
-        out.crust[r.firstSlot + i] = uint8_t(heat[r.firstIndex + i].crust);
-      }
-  }
+  if (m.flow) m.flow->download(out);
   return out;
 }
 

@@ -10,7 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "flow.h"
+#include "flow/flow.h"
 #include "lava/bench.h"
 #include "lava/error.h"
 #include "reference.h"

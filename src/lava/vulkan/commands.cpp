@@ -155,4 +155,13 @@ void imageBarrier(const DeviceContext& c, VkCommandBuffer commands, VkImage imag
                        srcAccess, dstStage, dstAccess);
 }
 
+void beforeCompute(const DeviceContext& c, VkCommandBuffer commands) {
+  memoryBarrier(c, commands,
+                VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+                    VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+}
+
 }  // namespace lava::detail

@@ -76,6 +76,9 @@ class Descriptors {
 void memoryBarrier(const DeviceContext& context, VkCommandBuffer commands,
                    VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
                    VkPipelineStageFlags dstStage, VkAccessFlags dstAccess);
+// Compute reads and writes after every earlier write (compute, transfer) and read (draws,
+// copies) of the same buffers.
+void beforeCompute(const DeviceContext& context, VkCommandBuffer commands);
 // One image barrier over the single mip and layer of `image`, with a layout change.
 void imageBarrier(const DeviceContext& context, VkCommandBuffer commands, VkImage image,
                   VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to,

@@ -17,6 +17,13 @@ UniqueShaderModule createShaderModule(const DeviceContext& c, Spirv shader) {
 
 }  // namespace
 
+Spirv withFloatControls(const DeviceContext& c, Spirv both, Spirv signedZero, Spirv rte,
+                        Spirv plain) {
+  const bool zero = c.floatControls.shaderSignedZeroInfNanPreserveFloat32;
+  const bool even = c.floatControls.shaderRoundingModeRTEFloat32;
+  return zero && even ? both : zero ? signedZero : even ? rte : plain;
+}
+
 UniquePipeline createComputePipeline(const DeviceContext& c, VkPipelineLayout layout, Spirv shader,
                                      const Constants& constants) {
   const UniqueShaderModule module = createShaderModule(c, shader);

@@ -24,6 +24,11 @@ struct Spirv {
 // of every compute shader).
 using Constants = std::vector<uint32_t>;
 
+// The one of a shader's four builds (both float controls, signed zeros only, RTE only,
+// neither) whose float controls this device honours.
+Spirv withFloatControls(const DeviceContext& context, Spirv both, Spirv signedZero, Spirv rte,
+                        Spirv plain);
+
 UniquePipeline createComputePipeline(const DeviceContext& context, VkPipelineLayout layout,
                                      Spirv shader, const Constants& constants);
 

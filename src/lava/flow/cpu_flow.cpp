@@ -8,10 +8,10 @@
 #include <limits>
 #include <thread>
 
-#include "constants.h"
 #include "flow/lattice.h"
-#include "model-inl.h"
-#include "reference.h"
+#include "sim/constants.h"
+#include "sim/model-inl.h"
+#include "sim/reference.h"
 
 namespace lava::detail {
 namespace {
@@ -283,6 +283,22 @@ void FlowStepper::parallel(size_t n, const Body& body) const {
     });
   for (size_t e = 0; e < n / threads; ++e) body(e);
   for (std::thread& w : workers) w.join();
+}
+
+void FlowStepper::births(State& state, const std::vector<std::vector<Births>>& schedule,
+                         size_t i) const {
+  const Scene& s = reference_.scene();
+  for (size_t k = 0; k < s.emitters.size(); ++k) {
+    if (!s.emitters[k].flow) continue;
+    const Births& b = schedule[k][i];
+    const uint32_t capacity = s.emitters[k].particles;
+    for (uint32_t r = 0; r < b.count; ++r) {
+      const uint64_t slot = s.firstSlot(k) + (uint64_t(b.head) + r) % capacity;
+      reference_.emit(k, b.firstSerial + r, state.particles[slot]);
+      state.temperature[slot] = weights_[k].birth;
+      state.crust[slot] = 0;
+    }
+  }
 }
 
 void FlowStepper::step(State& state) {

@@ -9,6 +9,7 @@
 #include "lava/scene.h"
 #include "lava/state.h"
 #include "shared.h"
+#include "sim/emission.h"
 
 namespace lava::detail {
 
@@ -73,15 +74,15 @@ std::vector<FlowRange> flowRanges(const Scene& scene);
 // The viscosity at temperature T (m^2/s): the table, interpolated; exact at both ends.
 float flowViscosity(const FlowConstants& k, float temperature);
 
-// One step of every flow emitter's particles, after the step's births (which set their
-// temperature and crust flag with birthTemperature()), over `threads` threads (the same
-// bits for any count). Keeps its grid between steps.
+// The flow on the CPU: each step's births, then one step of every flow emitter's particles,
+// over `threads` threads (the same bits for any count). Keeps its grid between steps.
 class FlowStepper {
  public:
   FlowStepper(const Reference& reference, unsigned threads);
+  // Step `i` of `schedule`'s births of every flow emitter (the last one landing on a slot
+  // wins): emitted, at the emitter's birth temperature, not crust.
+  void births(State& state, const std::vector<std::vector<Births>>& schedule, size_t i) const;
   void step(State& state);
-  // A flow particle's temperature and crust flag at birth, in emitter `emitter`.
-  float birthTemperature(size_t emitter) const { return weights_[emitter].birth; }
 
  private:
   void sort(const State& state);

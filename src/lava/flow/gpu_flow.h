@@ -1,0 +1,67 @@
+// The flow on the GPU (docs/model.md, "The flow on the GPU"): the flow's own copy of its
+// particles, their temperatures and crust flags, its grid, and flow.comp's passes, for a
+// GpuSimulation whose scene has flow emitters. GpuSimulation plans the births and owns the
+// state's chunks; this records the flow's steps over them.
+#pragma once
+#include <map>
+#include <vector>
+
+#include "flow.h"
+#include "lava/simulation.h"
+#include "vulkan/buffer.h"
+#include "vulkan/commands.h"
+#include "vulkan/pipeline.h"
+
+namespace lava::detail {
+
+class GpuFlow {
+ public:
+  // Its buffers are one binding each, its passes one dispatch each: a flow beyond the
+  // device's binding range, allocation or workgroup count is InvalidArgument ("particles").
+  GpuFlow(DeviceContext& context, const Scene& scene);
+
+  // The scene's parameters (what each frame slot's uniform holds) and pipeline, made when a
+  // scene is set, never while recording. Its flow emitters and capacities are the same.
+  void setScene(const Scene& scene);
+  const gpu::FlowParams& params() const { return params_; }
+
+  // What one frame slot binds besides the flow's own buffers.
+  struct SlotBindings {
+    VkBuffer schedule;     // the births (gpu::EmitEntry), `entries` per emitter
+    VkBuffer sceneParams;  // gpu::SceneParams
+    VkBuffer flowParams;   // gpu::FlowParams: params() as the slot's steps were planned
+    uint32_t entries;
+    DescriptorArena* sets;  // without push descriptors
+  };
+  // Records: every flow slot unborn (copied from the first `bytes` of `unborn`, a block of
+  // unborn particles), 0 K, no crust, the grid's counts 0.
+  void recordInit(VkCommandBuffer commands, VkBuffer unborn, VkDeviceSize bytes) const;
+  // Records `steps` steps (the slot's schedule entries 0 to steps - 1), eight passes each
+  // with a barrier between them, then the flow's particles into the state's `chunks`.
+  void record(VkCommandBuffer commands, const Scene& scene, const SlotBindings& slot,
+              uint32_t steps, const std::vector<ParticleChunk>& chunks);
+  // Blocking: the flow's copy from `state` (particles, temperatures, crust flags; the grid's
+  // counts 0), or its temperatures and crust flags into `state` (whose columns are sized).
+  void upload(const State& state);
+  void download(State& state);
+
+  GpuSimulation::FlowBuffers buffers() const;
+
+ private:
+  VkPipeline pipeline(const Scene& scene);
+  // Records the copy of the flow's particles over their slots in the state's chunks.
+  void copyToChunks(VkCommandBuffer commands, const std::vector<ParticleChunk>& chunks) const;
+
+  DeviceContext& c_;
+  gpu::FlowParams params_;
+  std::vector<FlowRange> ranges_;
+  uint32_t slots_, buckets_;
+  Buffer particles_, heat_, next_, scratch_, grid_;
+  Buffer upload_, readback_;  // upload()'s particles then heat; download()'s heat
+  UniqueDescriptorSetLayout setLayout_;
+  UniquePipelineLayout layout_;
+  // One pipeline per set of modules a scene used (kept: a frame in flight may use it).
+  std::map<Constants, UniquePipeline> pipelines_;
+};
+
+}  // namespace lava::detail
