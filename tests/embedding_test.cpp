@@ -366,8 +366,8 @@ struct HostReadback {
 
 // A host that only records: from Lava's device to its destruction, frames of simulation and
 // drawing (both renderers, the lava look with its glow, a resize that also rebuilds the
-// host's frames with one more in flight, and a live setScene()) through the host's own command buffers, and Lava
-// never submits or waits. What it recorded is right: the host's
+// host's frames with one more in flight, and a live setScene()) through the host's own
+// command buffers, and Lava never submits or waits. What it recorded is right: the host's
 // own read-back of the particles equals the CPU reference bit for bit (the particles'
 // initial state, too, was recorded, not uploaded).
 class EmbeddingRecordOnly : public ::testing::TestWithParam<uint32_t> {};

@@ -15,7 +15,7 @@
 #include "lava/simulation.h"
 #include "scene/keys.h"
 #include "flow_pool.h"
-#include "sim/flow.h"
+#include "flow/flow.h"
 #include "sim/reference.h"
 
 namespace lava {
@@ -195,7 +195,8 @@ TEST(FlowLattice, WhatALatticeCannotTakeIsRefusedByItsKey) {
               "mass = 0.0208\nburst = 10\n");
   EXPECT_NE(rate.find("emitter[0].rate: expected 0 with fill = \"lattice\""), std::string::npos)
       << rate;
-  EXPECT_NE(errorOf(latticeScene("box", 10, "burst-interval = 2\n")).find("emitter[0].burst-interval"),
+  EXPECT_NE(errorOf(latticeScene("box", 10, "burst-interval = 2\n"))
+                .find("emitter[0].burst-interval"),
             std::string::npos);
   EXPECT_NE(errorOf(latticeScene("box", 0)).find("emitter[0].burst: expected 1 to 1000"),
             std::string::npos);

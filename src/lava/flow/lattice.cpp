@@ -67,8 +67,8 @@ Lattice flowLattice(const Scene& scene, size_t emitter) {
                                   std::to_string(emitter) + "].shape is " + name(e.shape));
   const double q = double(e.radius) / d;
   if (q > kMostAcross)
-    throw InvalidArgument(at, "the radius is " + std::to_string(uint64_t(q)) +
-                                  " spacings; at most 4096");
+    throw InvalidArgument(
+        at, "the radius is " + std::to_string(uint64_t(q)) + " spacings; at most 4096");
   l.shape.x = gpu::kFillBall;
   l.shape.y = uint32_t(std::floor(q * q * (1.0 + 1e-6)));
   l.shape.z = integerRoot(l.shape.y);
@@ -108,8 +108,7 @@ Vec3 latticePosition(const Lattice& l, const Vec3& position, uint32_t index) {
   latticeSite(l, index, o);
   const float d = l.spacing.x;
   const bool box = l.shape.x == gpu::kFillBox;
-  const float c[3] = {box ? l.spacing.y : 0.0f, box ? l.spacing.z : 0.0f,
-                      box ? l.spacing.w : 0.0f};
+  const float c[3] = {box ? l.spacing.y : 0.0f, box ? l.spacing.z : 0.0f, box ? l.spacing.w : 0.0f};
   return {position.x + d * (float(o[0]) - c[0]), position.y + d * (float(o[1]) - c[1]),
           position.z + d * (float(o[2]) - c[2])};
 }

@@ -16,12 +16,12 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "common/check.h"
 #include "lava/error.h"
 #include "lava/simulation.h"
 #include "shared.h"
 #include "style.h"
 #include "vulkan/buffer.h"
-#include "common/check.h"
 #include "vulkan/commands.h"
 #include "vulkan/pipeline.h"
 #include "vulkan/shaders.h"
@@ -110,8 +110,8 @@ struct LineRenderer::Impl {
   bool depthPending = true;
   std::vector<uint32_t> listsPending;  // slots
   VkExtent2D extent{0, 0};
-  glm::uvec2 grid{0, 0};   // glow cells across and down
-  glm::uvec2 tiles{0, 0};  // resolve tiles across and down
+  glm::uvec2 grid{0, 0};      // glow cells across and down
+  glm::uvec2 tiles{0, 0};     // resolve tiles across and down
   VkDeviceSize sumCount = 0;  // the splat's sums for the extent (whole blocks)
   uint32_t used = 1;          // frame slots prepared so far (at least slot 0)
   // Per frame slot in use (recordPrepare() adds a slot on its first use; setExtent()
@@ -255,8 +255,8 @@ const LineRenderer::Impl::Sized& LineRenderer::Impl::sizedFor(bool sumsTexels, b
   Sized& z = *p;
   z.sumsAsTexels = sumsTexels;
   z.cellsAsTexels = cellsTexels;
-  z.resolveSet = detail::createSetLayout(
-      c, {readAs(sumsTexels), VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, kDrawStages);
+  z.resolveSet = detail::createSetLayout(c, {readAs(sumsTexels), VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                                         kDrawStages);
   z.resolveLayout =
       detail::createPipelineLayout(c, z.resolveSet, kDrawStages, sizeof(gpu::SplatParams));
   detail::GraphicsPipelineDesc resolve{
@@ -313,8 +313,8 @@ void LineRenderer::setExtent(VkExtent2D extent) {
   m.tiles = {detail::groupCount(extent.width, gpu::kResolveTile),
              detail::groupCount(extent.height, gpu::kResolveTile)};
   m.sumCount = VkDeviceSize{detail::groupCount(extent.width, gpu::kSplatBlockWidth)} *
-               detail::groupCount(extent.height, gpu::kSplatBlockHeight) *
-               gpu::kSplatBlockWidth * gpu::kSplatBlockHeight;
+               detail::groupCount(extent.height, gpu::kSplatBlockHeight) * gpu::kSplatBlockWidth *
+               gpu::kSplatBlockHeight;
   // The draws read the sums through a texel view where one holds them (on llvmpipe a
   // gather, where a storage-buffer load is a loop over the lanes; docs/benchmarks-history.md,
   // "Texel views"); 720p needs 921,600 texels, more than the spec's minimum of 65,536.
@@ -334,13 +334,14 @@ void LineRenderer::Impl::grow(uint32_t count) {
 
 void LineRenderer::Impl::addSizedSlot() {
   const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-  accumulation.emplace_back(c, sumCount * sizeof(uint32_t),
-                            storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-                                (sized->sumsAsTexels ? VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT : 0),
-                            detail::MemoryUse::Device);
+  accumulation.emplace_back(
+      c, sumCount * sizeof(uint32_t),
+      storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+          (sized->sumsAsTexels ? VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT : 0),
+      detail::MemoryUse::Device);
   if (sized->sumsAsTexels)
-    accumulationTexels.push_back(detail::createTexelView(c, accumulation.back().get(),
-                                                         VK_WHOLE_SIZE, VK_FORMAT_R32_UINT));
+    accumulationTexels.push_back(
+        detail::createTexelView(c, accumulation.back().get(), VK_WHOLE_SIZE, VK_FORMAT_R32_UINT));
   marks.emplace_back(c, VkDeviceSize{tiles.x} * tiles.y * sizeof(uint32_t),
                      storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, detail::MemoryUse::Device);
   const VkDeviceSize cells = VkDeviceSize{grid.x} * grid.y;
@@ -404,8 +405,7 @@ void LineRenderer::Impl::recordRock(VkCommandBuffer commands, uint32_t frame,
   gpu::RockParams params{};
   params.viewProj = glm::make_mat4(view.viewProj.m);
   // Discs 1.2 rest spacings across their opaque core: a settled pool shows no gaps.
-  params.heat = {scene.flow->solidus, scene.flow->temperature, scene.flow->ambient,
-                 1.2f * spacing};
+  params.heat = {scene.flow->solidus, scene.flow->temperature, scene.flow->ambient, 1.2f * spacing};
   c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, rock);
   detail::Descriptors()
       .buffer(gpu::kRockParticleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, flow.particles)
@@ -479,8 +479,8 @@ void LineRenderer::Impl::recordGlow(VkCommandBuffer commands, uint32_t frame,
       bindGlow(commands, frame, chunk.texels, params);
       c.vk.CmdDispatch(
           commands,
-          detail::groupCount((uint64_t{r.y - r.x} + stride - 1) / stride, gpu::kWorkgroupSize),
-          1, 1);
+          detail::groupCount((uint64_t{r.y - r.x} + stride - 1) / stride, gpu::kWorkgroupSize), 1,
+          1);
       params.target.z = 0;
     }
   }
@@ -516,11 +516,11 @@ void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
       m.c.vk.CmdFillBuffer(commands, m.glow[slot].list.get(), 0, 16, 0);
     // RAW: the glow's draw reads the lists as indirect arguments; WAW: the glow's passes
     // count into them.
-    detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                          VK_ACCESS_TRANSFER_WRITE_BIT,
-                          VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                          VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT |
-                              VK_ACCESS_SHADER_WRITE_BIT);
+    detail::memoryBarrier(
+        m.c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+        VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+        VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT |
+            VK_ACCESS_SHADER_WRITE_BIT);
     m.listsPending.clear();
   }
   const bool splat = m.mode == LineMode::Splat;
@@ -613,9 +613,10 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
     detail::Descriptors descriptors;
     m.sums(descriptors, gpu::kResolveSumsBinding, frame)
         .buffer(gpu::kResolveMarksBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m.marks[frame].get())
-        .bind(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.sized->resolveLayout, m.sized->resolveSet,
-              m.sets[frame]);
-    m.c.vk.CmdPushConstants(commands, m.sized->resolveLayout, kDrawStages, 0, sizeof(params), &params);
+        .bind(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.sized->resolveLayout,
+              m.sized->resolveSet, m.sets[frame]);
+    m.c.vk.CmdPushConstants(commands, m.sized->resolveLayout, kDrawStages, 0, sizeof(params),
+                            &params);
     m.c.vk.CmdDraw(commands, 6 * m.tiles.x * m.tiles.y, 1, 0, 0);
   }
   if (!glow) return;
@@ -631,9 +632,10 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
     descriptors.buffer(gpu::kGlowDrawLightBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                        g.light.get());
   if (splat) m.sums(descriptors, gpu::kGlowDrawSumsBinding, frame);
-  descriptors.bind(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.sized->glowDrawLayout, m.sized->glowDrawSet,
-                   m.sets[frame]);
-  m.c.vk.CmdPushConstants(commands, m.sized->glowDrawLayout, kDrawStages, 0, sizeof(params), &params);
+  descriptors.bind(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.sized->glowDrawLayout,
+                   m.sized->glowDrawSet, m.sets[frame]);
+  m.c.vk.CmdPushConstants(commands, m.sized->glowDrawLayout, kDrawStages, 0, sizeof(params),
+                          &params);
   m.c.vk.CmdDrawIndirect(commands, g.list.get(), 0, 1, sizeof(VkDrawIndirectCommand));
 }
 
