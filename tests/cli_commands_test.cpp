@@ -1,5 +1,8 @@
 // The `lava` program's commands as users run them: scene files and flags, the outputs each
 // command promises, checkpoints resumed, help and info.
+#include <algorithm>
+#include <cmath>
+
 #include "cli_test.h"
 
 namespace {
@@ -279,6 +282,52 @@ TEST(Help, ExitsZeroAndListsCommands) {
   }
   EXPECT_NE(lava("simulate --help").out.find("--dt NUM"), std::string::npos);
   EXPECT_NE(lava("simulate --help").out.find("[0.001]"), std::string::npos);
+}
+
+}  // namespace
+
+namespace {
+
+// The published-solution cases of `lava study --flow` (docs/flow.md): bad names and values
+// refused in one line; the dam break sampled at Martin & Moyce's times against their fronts,
+// and the film's Nusselt speed taken from its own depth.
+TEST(StudyFlow, CasesAreRefusedByNameAndSampledAgainstTheirData) {
+  Result r = lava("study --flow huppert");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--flow: expected one of nusselt, dam-break"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  r = lava("study --flow at-rest --viscosity 0");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--viscosity"), std::string::npos) << r.err;
+
+  const std::string csv = scratch("dam.csv");
+  r = lava("study --flow dam-break --dts 0.001 --csv " + csv);
+  EXPECT_TRUE(r.status == 0 || r.status == 1) << r.err;
+  EXPECT_NE(r.out.find("deviation"), std::string::npos) << r.out;
+  std::istringstream rows(readFile(csv));
+  std::string row;
+  std::getline(rows, row);
+  EXPECT_EQ(row, "case,dt,viscosity,t,measured,published");
+  const double data[][2] = {{0.41, 1.11}, {1.98, 2.33}, {3.33, 4.11}};  // rows 1, 7 and 15
+  for (int k = 1; std::getline(rows, row); ++k) {
+    std::vector<double> v;
+    std::istringstream cells(row.substr(row.find(',') + 1));
+    for (std::string cell; std::getline(cells, cell, ',');) v.push_back(std::stod(cell));
+    ASSERT_EQ(v.size(), 5u) << row;
+    const int at = k == 1 ? 0 : k == 7 ? 1 : k == 15 ? 2 : -1;
+    if (at < 0) continue;
+    EXPECT_NEAR(v[2] * std::sqrt(2.0 * 9.81 / 0.1), data[at][0], 0.015) << row;  // T
+    EXPECT_DOUBLE_EQ(v[4], data[at][1]) << row;                                   // Z
+    EXPECT_GT(v[3], 0.97) << row;  // the front: at least the column's last site (0.975 a)
+  }
+
+  r = lava("study --flow nusselt --viscosity 1 --seconds 0.1 --dts 0.001 --csv " + csv);
+  EXPECT_TRUE(r.status == 0 || r.status == 1) << r.err;
+  std::istringstream film(readFile(csv));
+  std::getline(film, row);
+  std::getline(film, row);  // t = 0.005 s: the film still 6 sites (18 cm) deep
+  const double published = std::stod(row.substr(row.rfind(',') + 1));
+  EXPECT_NEAR(published, 9.81 * 0.5 * 0.18 * 0.18 / 3.0, 0.002) << row;
 }
 
 }  // namespace

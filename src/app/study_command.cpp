@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "commands.h"
+#include "flow_study.h"
 #include "host/output.h"
 #include "lava/lava.h"
 #include "lava/scene_keys.h"
@@ -64,6 +65,20 @@ class StudyCommand final : public Command {
                  [this](const std::string& src, const std::string& t) {
                    seconds_ = parseNumber(src, t, 0.0, 1000.0, true);
                  });
+    options_.add("flow",
+                 "instead: the flow against a published solution, on the CPU reference; one of " +
+                     std::string(kFlowCases) + " (docs/flow.md); exit 1 outside its tolerance",
+                 [this](const std::string& src, const std::string& t) {
+                   const std::string cases = std::string(", ") + kFlowCases + ",";
+                   if (t.empty() || cases.find(", " + t + ",") == std::string::npos)
+                     throw UsageError(src + ": expected one of " + kFlowCases + ", got '" + t +
+                                      "'");
+                   flow_ = t;
+                 });
+    options_.add("viscosity", "--flow: the flow's constant viscosity (m^2/s), [1e-6, 1e4] [the case's]",
+                 [this](const std::string& src, const std::string& t) {
+                   viscosity_ = parseNumber(src, t, 1e-6, 1e4);
+                 });
     options_.add("csv", "also write the table to FILE.csv",
                  [this](const std::string& src, const std::string& t) {
                    checkOutputPath(src, t, ".csv");
@@ -78,6 +93,7 @@ class StudyCommand final : public Command {
 
   int run() override {
     options_.resolve();
+    if (!flow_.empty()) return runFlow();
     const Emitter& e = scene_.emitters.at(0);
     std::printf(
         "study: one particle from (%g, %g, %g) m at (%g, %g, %g) m/s, g = %g m/s^2, "
@@ -115,6 +131,39 @@ class StudyCommand final : public Command {
     if (items.empty() || text.back() == ',')
       throw UsageError(source + ": expected a comma-separated list, got '" + text + "'");
     return items;
+  }
+
+  // Each step size of --dts (default 1 ms and 1/120 s): the case's samples and verdict.
+  int runFlow() const {
+    const std::vector<double> dts =
+        options_.given("dts") ? dts_ : std::vector<double>{0.001, 1.0 / 120.0};
+    std::string table = "case,dt,viscosity,t,measured,published\n";
+    bool holds = true;
+    for (double dt : dts) {
+      FlowStudyOptions o;
+      o.name = flow_;
+      o.viscosity = viscosity_;
+      o.dt = dt;
+      o.seconds = options_.given("seconds") ? seconds_ : 0.0;
+      const FlowStudy study = studyFlow(o);
+      std::printf("study --flow %s, dt = %g s%s: %s against %s\n", flow_.c_str(), dt,
+                  viscosity_ > 0.0 ? (", viscosity " + std::to_string(viscosity_)).c_str() : "",
+                  study.quantity.c_str(), study.reference.c_str());
+      std::printf("%10s %14s %14s %9s\n", "t (s)", "measured", "published", "ratio");
+      for (const FlowSample& x : study.samples) {
+        std::printf("%10.4f %14.6g %14.6g %9.3f\n", x.t, x.measured, x.published,
+                    x.published != 0.0 ? x.measured / x.published : 0.0);
+        char row[200];
+        std::snprintf(row, sizeof(row), "%s,%.9g,%.9g,%.9g,%.9g,%.9g\n", flow_.c_str(), dt,
+                      viscosity_, x.t, x.measured, x.published);
+        table += row;
+      }
+      std::printf("%s: deviation %.3g, tolerance %.3g\n", study.holds() ? "holds" : "FAILS",
+                  study.deviation, study.tolerance);
+      holds = holds && study.holds();
+    }
+    if (!csv_.empty()) host::writeFileAtomically(csv_, table);
+    return holds ? 0 : 1;
   }
 
   Run study(Integrator integrator, double dt) const {
@@ -170,6 +219,8 @@ class StudyCommand final : public Command {
   double seconds_ = 10.0;
   std::string csv_;
   std::string energyCsv_;
+  std::string flow_;        // --flow: a published solution's case
+  double viscosity_ = 0.0;  // --flow's viscosity; 0: the case's
 };
 
 }  // namespace
