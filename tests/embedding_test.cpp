@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -1046,6 +1047,35 @@ TEST_F(EmbeddingDraw, AHostThatRemakesItsRenderPassAtEveryResizeDrawsEveryFrame)
 
 namespace lava {
 namespace {
+
+// A host of a Vulkan 1.0 instance, under validation: deviceRequirements() asks the device
+// with Vulkan 1.0 calls only (no message) and says which instance version Lava needs; given
+// the instance's version, it and Device refuse it first, naming VkApplicationInfo::apiVersion.
+TEST(EmbeddingVersions, AVulkan10InstanceIsRefusedByItsVersionWithoutAValidationMessage) {
+  HostDevice host(VK_API_VERSION_1_0);
+  host.messages.clear();  // the host's own set-up is not Lava's
+  const DeviceRequirements asked =
+      deviceRequirements(host.handles.instance, host.handles.physicalDevice);
+  EXPECT_EQ(asked.instanceApiVersion, VK_API_VERSION_1_2);
+  EXPECT_TRUE(asked.int64Atomics) << "lavapipe offers VK_KHR_shader_atomic_int64";
+  const auto expectRefusal = [](const std::function<void()>& call) {
+    try {
+      call();
+      ADD_FAILURE() << "a Vulkan 1.0 instance was accepted";
+    } catch (const InvalidArgument& e) {
+      EXPECT_EQ(e.parameter(), "VkApplicationInfo::apiVersion") << e.what();
+      EXPECT_NE(std::string(e.what()).find("Vulkan 1.0"), std::string::npos) << e.what();
+    }
+  };
+  expectRefusal([&] {
+    deviceRequirements(host.handles.instance, host.handles.physicalDevice, nullptr,
+                       VK_API_VERSION_1_0);
+  });
+  DeviceHandles handles = host.handles;
+  handles.instanceApiVersion = VK_API_VERSION_1_0;
+  expectRefusal([&] { Device device(handles); });
+  for (const std::string& m : host.messages) ADD_FAILURE() << "validation: " << m;
+}
 
 // An instance made without application info is Vulkan 1.0, which hides dynamic rendering
 // from a Vulkan 1.3 device: the error must name the instance's version and what Lava needs,

@@ -53,6 +53,12 @@ struct DeviceHandles {
   // The host's frames in flight: how many fences guard its frames (see
   // Device::setFramesInFlight), 1 to 16.
   uint32_t framesInFlight = 2;
+  // Optional: the VkApplicationInfo::apiVersion the instance was created with, which Vulkan
+  // cannot report (0: not given). Given, Device checks it before any other call: below 1.2
+  // is InvalidArgument naming VkApplicationInfo::apiVersion. Not given, an instance older
+  // than 1.2 is found only by what it hides, after Vulkan 1.1 calls the validation layer
+  // reports.
+  uint32_t instanceApiVersion = 0;
 };
 
 // What a device must offer Lava: create it with these (vk-bootstrap or by hand).
@@ -79,10 +85,13 @@ struct DeviceRequirements {
 // optionalExtensions lists every optional extension; enable those the device offers.
 LAVA_API DeviceRequirements deviceRequirements(uint32_t deviceApiVersion = VK_API_VERSION_1_3);
 // For this physical device, asked: int64Atomics only where it offers both features,
-// optionalExtensions only those it offers. The instance must be of Vulkan 1.2 or later
-// (VkApplicationInfo::apiVersion); `getInstanceProcAddr` as in DeviceHandles.
+// optionalExtensions only those it offers; `getInstanceProcAddr` as in DeviceHandles. It
+// makes Vulkan 1.0 calls only, so it is safe on any instance, and its instanceApiVersion
+// says what Lava needs. `instanceApiVersion`: as DeviceHandles::instanceApiVersion (0: not
+// given); below 1.2 is InvalidArgument naming VkApplicationInfo::apiVersion, before any call.
 LAVA_API DeviceRequirements deviceRequirements(VkInstance instance, VkPhysicalDevice physical,
-                                               PFN_vkGetInstanceProcAddr getInstanceProcAddr = nullptr);
+                                               PFN_vkGetInstanceProcAddr getInstanceProcAddr = nullptr,
+                                               uint32_t instanceApiVersion = 0);
 
 // How Lava creates a device of its own.
 struct DeviceOptions {

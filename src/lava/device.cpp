@@ -168,7 +168,17 @@ std::optional<uint32_t> queueFamilyOf(const detail::Vk& vk, VkPhysicalDevice phy
   return std::nullopt;
 }
 
-// Whether `physical` offers shaderInt64 and shaderBufferInt64Atomics.
+// Whether `physical` offers shaderInt64 and shaderBufferInt64Atomics, asked with Vulkan 1.0
+// calls only (any instance): a device that offers VK_KHR_shader_atomic_int64 must support
+// shaderBufferInt64Atomics.
+bool offersInt64AtomicsOn10(const detail::Vk& vk, VkPhysicalDevice physical) {
+  VkPhysicalDeviceFeatures features;
+  vk.GetPhysicalDeviceFeatures(physical, &features);
+  return features.shaderInt64 &&
+         offers(deviceExtensions(vk, physical), VK_KHR_SHADER_ATOMIC_INT64_EXTENSION_NAME);
+}
+
+// The same, asked of Vulkan 1.2 (where the extension is core and need not be listed).
 bool offersInt64Atomics(const detail::Vk& vk, VkPhysicalDevice physical) {
   VkPhysicalDeviceShaderAtomicInt64Features atomics{
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES};
@@ -178,15 +188,22 @@ bool offersInt64Atomics(const detail::Vk& vk, VkPhysicalDevice physical) {
   return features.features.shaderInt64 && atomics.shaderBufferInt64Atomics;
 }
 
-// Why `physical` cannot run Lava, or empty when it can.
-std::string unsuitability(const detail::Vk& vk, VkPhysicalDevice physical) {
+// Why `physical` cannot run Lava, or empty when it can; `dynamicRendering`: whether the
+// path Lava draws on needs it (a host that draws only in render passes may do without).
+std::string unsuitability(const detail::Vk& vk, VkPhysicalDevice physical,
+                          bool dynamicRendering = true) {
   VkPhysicalDeviceProperties properties;
   vk.GetPhysicalDeviceProperties(physical, &properties);
   const std::string name = std::string("device '") + properties.deviceName + "'";
   if (properties.apiVersion < VK_API_VERSION_1_2) return name + " supports only Vulkan 1.0/1.1";
+  if (!queueFamilyOf(vk, physical)) return name + " has no queue with both graphics and compute";
+  if (!dynamicRendering) return {};
   const std::vector<VkExtensionProperties> extensions = deviceExtensions(vk, physical);
   for (const char* required : deviceRequirements(properties.apiVersion).extensions)
-    if (!offers(extensions, required)) return name + " lacks " + required;
+    if (!offers(extensions, required))
+      return name + " lacks " + required +
+             " for dynamic rendering (a host that draws only in render passes clears "
+             "DeviceHandles::dynamicRendering)";
   VkPhysicalDeviceDynamicRenderingFeatures dynamic{
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DYNAMIC_RENDERING_FEATURES};
   VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
@@ -199,10 +216,21 @@ std::string unsuitability(const detail::Vk& vk, VkPhysicalDevice physical) {
              "(VkApplicationInfo::apiVersion; without application info it is 1.0), which " +
              "hides dynamic rendering: Lava needs an instance of Vulkan 1.3, or of 1.2 with " +
              "VK_KHR_dynamic_rendering enabled on the device";
-    return name + " lacks dynamic rendering";
+    return name + " lacks dynamic rendering (a host that draws only in render passes clears " +
+           "DeviceHandles::dynamicRendering)";
   }
-  if (!queueFamilyOf(vk, physical)) return name + " has no queue with both graphics and compute";
   return {};
+}
+
+// Lava's instance version, checked before any call where the host gives it.
+void checkInstanceVersion(uint32_t apiVersion) {
+  if (apiVersion == 0 || apiVersion >= VK_API_VERSION_1_2) return;
+  throw InvalidArgument("VkApplicationInfo::apiVersion",
+                        "the instance is Vulkan " + std::to_string(VK_API_VERSION_MAJOR(apiVersion)) +
+                            "." + std::to_string(VK_API_VERSION_MINOR(apiVersion)) +
+                            ", which hides what Lava needs of the device: create it with "
+                            "VK_API_VERSION_1_3 (or 1.2 with VK_KHR_dynamic_rendering on the "
+                            "device)");
 }
 
 VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT,
@@ -383,14 +411,18 @@ DeviceRequirements deviceRequirements(uint32_t deviceApiVersion) {
 }
 
 DeviceRequirements deviceRequirements(VkInstance instance, VkPhysicalDevice physical,
-                                      PFN_vkGetInstanceProcAddr getInstanceProcAddr) {
+                                      PFN_vkGetInstanceProcAddr getInstanceProcAddr,
+                                      uint32_t instanceApiVersion) {
+  checkInstanceVersion(instanceApiVersion);
   detail::Vk vk;
   vk.loadGlobal(getInstanceProcAddr ? getInstanceProcAddr : vkGetInstanceProcAddr);
   vk.loadInstance(instance);
   VkPhysicalDeviceProperties properties;
   vk.GetPhysicalDeviceProperties(physical, &properties);
   DeviceRequirements r = deviceRequirements(properties.apiVersion);
-  r.int64Atomics = offersInt64Atomics(vk, physical);
+  // Vulkan 1.0 calls only, unless the host says its instance is of 1.2 or later.
+  r.int64Atomics = instanceApiVersion >= VK_API_VERSION_1_2 ? offersInt64Atomics(vk, physical)
+                                                            : offersInt64AtomicsOn10(vk, physical);
   const std::vector<VkExtensionProperties> offered = deviceExtensions(vk, physical);
   std::vector<const char*> optional;
   for (const char* name : r.optionalExtensions)
@@ -486,12 +518,14 @@ Device::Device(const DeviceHandles& borrowed) : context_(std::make_unique<Device
   DeviceContext& c = *context_;
   if (!borrowed.instance || !borrowed.physicalDevice || !borrowed.device || !borrowed.queue)
     throw InvalidArgument("handles", "instance, physical device, device and queue are required");
+  checkInstanceVersion(borrowed.instanceApiVersion);
   c.handles = borrowed;
   c.framesInFlight = checkedFramesInFlight(borrowed.framesInFlight);
   if (!c.handles.getInstanceProcAddr) c.handles.getInstanceProcAddr = vkGetInstanceProcAddr;
   c.vk.loadGlobal(c.handles.getInstanceProcAddr);
   c.vk.loadInstance(c.handles.instance);
-  const std::string why = unsuitability(c.vk, c.handles.physicalDevice);
+  const std::string why =
+      unsuitability(c.vk, c.handles.physicalDevice, borrowed.dynamicRendering);
   if (!why.empty()) throw ResourceError(why + ": it cannot run Lava");
   if (borrowed.int64Atomics && !offersInt64Atomics(c.vk, c.handles.physicalDevice))
     throw InvalidArgument("int64Atomics",

@@ -18,6 +18,7 @@ namespace lava::detail {
   X(EnumeratePhysicalDevices)                \
   X(GetPhysicalDeviceProperties)             \
   X(GetPhysicalDeviceProperties2)            \
+  X(GetPhysicalDeviceFeatures)               \
   X(GetPhysicalDeviceFeatures2)              \
   X(GetPhysicalDeviceMemoryProperties)       \
   X(GetPhysicalDeviceQueueFamilyProperties)  \
