@@ -13,6 +13,8 @@
 #include <thread>
 #include <vector>
 
+#include <glm/glm.hpp>
+
 #include "host/frame_renderer.h"
 #include "lava/camera.h"
 #include "host/offscreen.h"
@@ -885,6 +887,107 @@ TEST(EmbeddingFeatures, RequirementsAskTheDeviceAndEnabledFeaturesAreChecked) {
   for (const std::string& m : host.messages) ADD_FAILURE() << "validation: " << m;
 }
 
+// A host's render pass like Dear ImGui's: one colour attachment, cleared, no depth; left in
+// TRANSFER_SRC_OPTIMAL for the host's read-back.
+VkRenderPass colourOnlyPass(VkDevice vk, VkFormat format) {
+  VkAttachmentDescription a{};
+  a.format = format;
+  a.samples = VK_SAMPLE_COUNT_1_BIT;
+  a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  a.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+  a.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+  a.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  a.finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+  const VkAttachmentReference color{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+  VkSubpassDescription subpass{};
+  subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  subpass.colorAttachmentCount = 1;
+  subpass.pColorAttachments = &color;
+  VkSubpassDependency dependency{};  // as ImGui's: the attachment's writes after its last use
+  dependency.srcSubpass = VK_SUBPASS_EXTERNAL;
+  dependency.srcStageMask =
+      VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+  dependency.dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+  dependency.srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+  dependency.dstAccessMask =
+      VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  VkSubpassDependency after{};  // the copy to the read-back after the pass
+  after.srcSubpass = 0;
+  after.dstSubpass = VK_SUBPASS_EXTERNAL;
+  after.srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+  after.dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+  after.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  after.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+  const VkSubpassDependency dependencies[2] = {dependency, after};
+  VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+  info.attachmentCount = 1;
+  info.pAttachments = &a;
+  info.subpassCount = 1;
+  info.pSubpasses = &subpass;
+  info.dependencyCount = 2;
+  info.pDependencies = dependencies;
+  VkRenderPass pass = VK_NULL_HANDLE;
+  EXPECT_EQ(vkCreateRenderPass(vk, &info, nullptr, &pass), VK_SUCCESS);
+  return pass;
+}
+
+// One frame in a colour-only host pass of `extent`: the simulation's recorded steps (none
+// when `steps` is 0), recordPrepare() without a depth view, the backdrop and the lines in the
+// pass; the pixels read back.
+std::vector<uint8_t> drawInColourOnlyPass(Device& device, GpuSimulation& gpu, const Scene& scene,
+                                          Backdrop& backdrop, LineRenderer& lines,
+                                          VkRenderPass pass, VkFormat format, VkExtent2D extent,
+                                          const View& view, uint32_t steps) {
+  const DeviceHandles& host = device.handles();
+  const VkDevice vk = host.device;
+  const HostImage image(host, extent, format,
+                        VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                        VK_IMAGE_ASPECT_COLOR_BIT);
+  const HostReadback readback(host, VkDeviceSize{extent.width} * extent.height * 4);
+  VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+  fb.renderPass = pass;
+  fb.attachmentCount = 1;
+  fb.pAttachments = &image.view;
+  fb.width = extent.width;
+  fb.height = extent.height;
+  fb.layers = 1;
+  VkFramebuffer framebuffer = VK_NULL_HANDLE;
+  EXPECT_EQ(vkCreateFramebuffer(vk, &fb, nullptr, &framebuffer), VK_SUCCESS);
+  HostFrames frames(vk, 1);
+  VkCommandBuffer cmd = frames.begin(0);
+  if (steps > 0) {
+    gpu.update(0, steps);
+    gpu.recordSimulate(cmd, 0);
+  }
+  lines.recordPrepare(cmd, 0, gpu, view);
+  VkClearValue clear{};
+  clear.color = {{0.01f, 0.01f, 0.02f, 1.0f}};
+  VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+  begin.renderPass = pass;
+  begin.framebuffer = framebuffer;
+  begin.renderArea = {{0, 0}, extent};
+  begin.clearValueCount = 1;
+  begin.pClearValues = &clear;
+  vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+  backdrop.recordDraw(cmd, view, scene);
+  lines.recordDraw(cmd, 0, gpu, view);
+  vkCmdEndRenderPass(cmd);
+  VkBufferImageCopy region{};
+  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.imageExtent = {extent.width, extent.height, 1};
+  vkCmdCopyImageToBuffer(cmd, image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer,
+                         1, &region);
+  VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_TRANSFER_WRITE_BIT,
+                         VK_ACCESS_HOST_READ_BIT};
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
+                       &toHost, 0, nullptr, 0, nullptr);
+  frames.submit(host.queue, 0);
+  vkDeviceWaitIdle(vk);
+  vkDestroyFramebuffer(vk, framebuffer, nullptr);
+  return readback.read();
+}
+
 using EmbeddingDraw = test::VulkanTest;
 
 TEST_F(EmbeddingDraw, LinesLandInAHostImageOfAnotherChannelOrder) {
@@ -922,123 +1025,84 @@ TEST_F(EmbeddingDraw, LinesLandInAHostImageOfAnotherChannelOrder) {
 // rebuilds pipelines in setExtent(). Lava keeps no handle of the host's: no validation
 // message, and lava is drawn at every size.
 TEST_F(EmbeddingDraw, AHostThatRemakesItsRenderPassAtEveryResizeDrawsEveryFrame) {
-  const DeviceHandles& host = device().handles();
-  const VkDevice vk = host.device;
+  const VkDevice vk = device().handles().device;
   constexpr VkFormat kColor = VK_FORMAT_B8G8R8A8_UNORM;
-  constexpr VkImageLayout kColorLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-  const auto makePass = [&] {
-    VkAttachmentDescription a{};
-    a.format = kColor;
-    a.samples = VK_SAMPLE_COUNT_1_BIT;
-    a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    a.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-    a.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    a.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    a.finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-    const VkAttachmentReference color{0, kColorLayout};
-    VkSubpassDescription subpass{};
-    subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-    subpass.colorAttachmentCount = 1;
-    subpass.pColorAttachments = &color;
-    VkSubpassDependency dependency{};  // as ImGui's: the attachment's writes after its last use
-    dependency.srcSubpass = VK_SUBPASS_EXTERNAL;
-    dependency.srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
-                              VK_PIPELINE_STAGE_TRANSFER_BIT;
-    dependency.dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-    dependency.srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-    dependency.dstAccessMask =
-        VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-    VkSubpassDependency after{};  // the copy to the read-back after the pass
-    after.srcSubpass = 0;
-    after.dstSubpass = VK_SUBPASS_EXTERNAL;
-    after.srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-    after.dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
-    after.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-    after.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-    const VkSubpassDependency dependencies[2] = {dependency, after};
-    VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-    info.attachmentCount = 1;
-    info.pAttachments = &a;
-    info.subpassCount = 1;
-    info.pSubpasses = &subpass;
-    info.dependencyCount = 2;
-    info.pDependencies = dependencies;
-    VkRenderPass pass = VK_NULL_HANDLE;
-    EXPECT_EQ(vkCreateRenderPass(vk, &info, nullptr, &pass), VK_SUCCESS);
-    return pass;
-  };
   Scene scene;
   scene.emitters[0].particles = 4096;
   scene.emitters[0].rate = 20000.0;
   GpuSimulation gpu(device(), scene);
-  VkRenderPass pass = makePass();
+  VkRenderPass pass = colourOnlyPass(vk, kColor);
   RenderFormats formats{kColor, VK_FORMAT_UNDEFINED, pass};
   Backdrop backdrop(device(), formats);
   LineRenderer lines(device(), formats);
-  HostFrames frames(vk, device().framesInFlight());
   OrbitCamera camera;
   const VkExtent2D sizes[] = {{240, 180}, {512, 384}, {160, 120}, {640, 400}, {200, 150}};
-  uint32_t frame = 0;
   for (const VkExtent2D extent : sizes) {
     SCOPED_TRACE(std::to_string(extent.width) + "x" + std::to_string(extent.height));
     vkDeviceWaitIdle(vk);  // as a host rebuilding its swapchain
     vkDestroyRenderPass(vk, pass, nullptr);
-    pass = makePass();
+    pass = colourOnlyPass(vk, kColor);
     lines.setExtent(extent);
-    const HostImage image(host, extent, kColor,
-                          VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                          VK_IMAGE_ASPECT_COLOR_BIT);
-    const HostReadback readback(host, VkDeviceSize{extent.width} * extent.height * 4);
-    VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-    fb.renderPass = pass;
-    fb.attachmentCount = 1;
-    fb.pAttachments = &image.view;
-    fb.width = extent.width;
-    fb.height = extent.height;
-    fb.layers = 1;
-    VkFramebuffer framebuffer = VK_NULL_HANDLE;
-    ASSERT_EQ(vkCreateFramebuffer(vk, &fb, nullptr, &framebuffer), VK_SUCCESS);
     const View view{camera.viewProj(float(extent.width) / float(extent.height)), extent,
                     camera.eye()};
-    for (uint32_t i = 0; i < 2; ++i, ++frame) {
-      const uint32_t slot = frame % device().framesInFlight();
-      lines.setMode(i ? LineMode::Splat : LineMode::Lines);
-      VkCommandBuffer cmd = frames.begin(slot);
-      gpu.update(slot, 40);
-      gpu.recordSimulate(cmd, slot);
-      lines.recordPrepare(cmd, slot, gpu, view);
-      VkClearValue clear{};
-      clear.color = {{0.01f, 0.01f, 0.02f, 1.0f}};
-      VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-      begin.renderPass = pass;
-      begin.framebuffer = framebuffer;
-      begin.renderArea = {{0, 0}, extent};
-      begin.clearValueCount = 1;
-      begin.pClearValues = &clear;
-      vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
-      backdrop.recordDraw(cmd, view, scene);
-      lines.recordDraw(cmd, slot, gpu, view);
-      vkCmdEndRenderPass(cmd);
-      VkBufferImageCopy region{};
-      region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-      region.imageExtent = {extent.width, extent.height, 1};
-      vkCmdCopyImageToBuffer(cmd, image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                             readback.buffer, 1, &region);
-      VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr,
-                             VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT};
-      vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
-                           &toHost, 0, nullptr, 0, nullptr);
-      frames.submit(host.queue, slot);
-      vkDeviceWaitIdle(vk);
-      const std::vector<uint8_t> pixels = readback.read();
+    for (LineMode mode : {LineMode::Lines, LineMode::Splat}) {
+      lines.setMode(mode);
+      const std::vector<uint8_t> pixels = drawInColourOnlyPass(
+          device(), gpu, scene, backdrop, lines, pass, kColor, extent, view, 40);
       size_t lit = 0;
       for (size_t p = 0; p < pixels.size(); p += 4) lit += pixels[p + 2] > 150;  // red: lava
-      EXPECT_GT(lit, 20u) << (i ? "splat" : "lines");
+      EXPECT_GT(lit, 20u) << (mode == LineMode::Splat ? "splat" : "lines");
     }
-    vkDestroyFramebuffer(vk, framebuffer, nullptr);
   }
-  vkDeviceWaitIdle(vk);
+  vkDestroyRenderPass(vk, pass, nullptr);
+}
+
+// A colour-only host pass (no depth of the host's) with setSceneDepth(): Lava draws the
+// solids' depth itself, and the splat hides a particle behind the volcano's cone while it
+// draws one beside it; without it, the one behind shows through.
+TEST_F(EmbeddingDraw, ASceneDepthOfLavasOwnHidesLavaBehindTheConeInAColourOnlyPass) {
+  const VkDevice vk = device().handles().device;
+  constexpr VkFormat kColor = VK_FORMAT_B8G8R8A8_UNORM;
+  constexpr VkExtent2D kExtent{320, 240};
+  Scene scene;
+  Collider cone;
+  cone.type = ColliderType::Cone;
+  cone.baseRadius = 1.6f;
+  cone.topRadius = 0.4f;
+  cone.height = 1.4f;
+  scene.colliders = {cone};
+  scene.emitters[0].particles = 1;
+  const OrbitCamera camera;
+  const View view{camera.viewProj(float(kExtent.width) / float(kExtent.height)), kExtent,
+                  camera.eye()};
+  const glm::vec3 away = glm::normalize(-glm::vec3(camera.eye().x, 0.0f, camera.eye().z));
+  const glm::vec3 across = glm::cross(away, glm::vec3(0.0f, 1.0f, 0.0f));
+  const glm::vec3 behind = away * 2.2f + glm::vec3(0.0f, 0.3f, 0.0f);
+  const glm::vec3 beside = across * 2.6f + glm::vec3(0.0f, 0.3f, 0.0f);
+  VkRenderPass pass = colourOnlyPass(vk, kColor);
+  const RenderFormats formats{kColor, VK_FORMAT_UNDEFINED, pass};
+  Backdrop backdrop(device(), formats);
+  LineRenderer lines(device(), formats);
+  lines.setExtent(kExtent);
+  lines.setMode(LineMode::Splat);
+  lines.setSettings({1.0f, 0.0f, 0.1f});  // no glow: only the line itself
+  // One particle at `x` (or none), as the state, no steps taken.
+  const auto draw = [&](const glm::vec3* x) {
+    GpuSimulation gpu(device(), scene);
+    State state = initialState(scene);
+    if (x) state.particles[0] = Particle{x->x, x->y, x->z, 0.0f, 0.6f, 0.0f, 0.3f, 1.0f};
+    gpu.setState(state);
+    return drawInColourOnlyPass(device(), gpu, scene, backdrop, lines, pass, kColor, kExtent,
+                                view, 0);
+  };
+  for (bool own : {true, false}) {
+    SCOPED_TRACE(own ? "with the scene's depth" : "without");
+    lines.setSceneDepth(own);
+    EXPECT_EQ(lines.sceneDepth(), own);
+    const std::vector<uint8_t> empty = draw(nullptr);
+    EXPECT_NE(draw(&beside), empty);
+    EXPECT_EQ(draw(&behind) == empty, own);
+  }
   vkDestroyRenderPass(vk, pass, nullptr);
 }
 

@@ -79,6 +79,16 @@ class LAVA_API LineRenderer {
   LookStyle style() const;
   void setSettings(const LookSettings& settings);
   const LookSettings& settings() const;
+  // For a host that gives recordPrepare() no depth view (a pass with colour only): on,
+  // recordPrepare() draws the depth of the scene's solids (the ground, the colliders, a
+  // crater's scenery: what a Backdrop draws) into an image of Lava's own per frame slot, in
+  // a render pass of its own outside the host's, and the splat (LineMode::Splat) tests
+  // against it, so that solids hide the lava behind them; the lines of LineMode::Lines and
+  // the rock do not. Off by default; a depth view given to recordPrepare() is used instead.
+  // Costs a depth image per frame slot and a depth-only pass at the target's size a frame
+  // (docs/benchmarks.md).
+  void setSceneDepth(bool on);
+  bool sceneDepth() const;
   // Not a recording call: sizes the splat's and the glow's per-frame buffers for targets
   // of `extent` (allocates, and in dynamic rendering builds the pipelines that read the
   // splat's sums and the glow's cells on the first call or when either outgrows the device's

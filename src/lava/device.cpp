@@ -7,9 +7,9 @@
 #include <cstring>
 #include <utility>
 
+#include "common/check.h"
 #include "lava/error.h"
 #include "shared.h"
-#include "common/check.h"
 #include "vulkan/device_context.h"
 
 namespace lava {
@@ -226,8 +226,9 @@ std::string unsuitability(const detail::Vk& vk, VkPhysicalDevice physical,
 void checkInstanceVersion(uint32_t apiVersion) {
   if (apiVersion == 0 || apiVersion >= VK_API_VERSION_1_2) return;
   throw InvalidArgument("VkApplicationInfo::apiVersion",
-                        "the instance is Vulkan " + std::to_string(VK_API_VERSION_MAJOR(apiVersion)) +
-                            "." + std::to_string(VK_API_VERSION_MINOR(apiVersion)) +
+                        "the instance is Vulkan " +
+                            std::to_string(VK_API_VERSION_MAJOR(apiVersion)) + "." +
+                            std::to_string(VK_API_VERSION_MINOR(apiVersion)) +
                             ", which hides what Lava needs of the device: create it with "
                             "VK_API_VERSION_1_3 (or 1.2 with VK_KHR_dynamic_rendering on the "
                             "device)");
@@ -438,19 +439,21 @@ namespace {
 void checkEnabledFeatures(const DeviceHandles& h, uint32_t apiVersion) {
   if (!h.enabledFeatures) return;
   bool dynamicRendering = false, atomics = false;
-  for (auto* s = static_cast<const VkBaseInStructure*>(h.enabledFeatures->pNext); s;
-       s = s->pNext) {
+  for (auto* s = static_cast<const VkBaseInStructure*>(h.enabledFeatures->pNext); s; s = s->pNext) {
     switch (s->sType) {
       case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES:
-        dynamicRendering = dynamicRendering ||
+        dynamicRendering =
+            dynamicRendering ||
             reinterpret_cast<const VkPhysicalDeviceVulkan13Features*>(s)->dynamicRendering;
         break;
       case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DYNAMIC_RENDERING_FEATURES:
-        dynamicRendering = dynamicRendering ||
+        dynamicRendering =
+            dynamicRendering ||
             reinterpret_cast<const VkPhysicalDeviceDynamicRenderingFeatures*>(s)->dynamicRendering;
         break;
       case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES:
-        atomics = atomics ||
+        atomics =
+            atomics ||
             reinterpret_cast<const VkPhysicalDeviceVulkan12Features*>(s)->shaderBufferInt64Atomics;
         break;
       case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES:
@@ -462,13 +465,13 @@ void checkEnabledFeatures(const DeviceHandles& h, uint32_t apiVersion) {
     }
   }
   if (h.dynamicRendering && !dynamicRendering)
-    throw InvalidArgument("enabledFeatures",
-                          std::string("the device was created without dynamicRendering (") +
-                              (apiVersion >= VK_API_VERSION_1_3
-                                   ? "VkPhysicalDeviceVulkan13Features"
-                                   : "VkPhysicalDeviceDynamicRenderingFeatures") +
-                              "), but DeviceHandles::dynamicRendering is set: enable it, or "
-                              "clear the flag and give Lava render passes");
+    throw InvalidArgument(
+        "enabledFeatures",
+        std::string("the device was created without dynamicRendering (") +
+            (apiVersion >= VK_API_VERSION_1_3 ? "VkPhysicalDeviceVulkan13Features"
+                                              : "VkPhysicalDeviceDynamicRenderingFeatures") +
+            "), but DeviceHandles::dynamicRendering is set: enable it, or "
+            "clear the flag and give Lava render passes");
   if (h.int64Atomics && !h.enabledFeatures->features.shaderInt64)
     throw InvalidArgument("int64Atomics",
                           "set, but the device was created without shaderInt64 "
@@ -524,8 +527,7 @@ Device::Device(const DeviceHandles& borrowed) : context_(std::make_unique<Device
   if (!c.handles.getInstanceProcAddr) c.handles.getInstanceProcAddr = vkGetInstanceProcAddr;
   c.vk.loadGlobal(c.handles.getInstanceProcAddr);
   c.vk.loadInstance(c.handles.instance);
-  const std::string why =
-      unsuitability(c.vk, c.handles.physicalDevice, borrowed.dynamicRendering);
+  const std::string why = unsuitability(c.vk, c.handles.physicalDevice, borrowed.dynamicRendering);
   if (!why.empty()) throw ResourceError(why + ": it cannot run Lava");
   if (borrowed.int64Atomics && !offersInt64Atomics(c.vk, c.handles.physicalDevice))
     throw InvalidArgument("int64Atomics",

@@ -30,8 +30,8 @@ Backdrop::Backdrop(Device& device, const RenderFormats& formats)
   const detail::GraphicsPipelineDesc solids{LAVA_SPIRV(spirv::kGroundVertSpv),
                                             LAVA_SPIRV(spirv::kGroundFragSpv), formats};
   m.pipeline = detail::createGraphicsPipeline(m.c, m.layout, solids);
-  detail::GraphicsPipelineDesc sky{LAVA_SPIRV(spirv::kSkyVertSpv),
-                                   LAVA_SPIRV(spirv::kLinesFragSpv), formats};
+  detail::GraphicsPipelineDesc sky{LAVA_SPIRV(spirv::kSkyVertSpv), LAVA_SPIRV(spirv::kLinesFragSpv),
+                                   formats};
   sky.depthWrite = false;
   m.sky = detail::createGraphicsPipeline(m.c, m.layout, sky);
   m.hasDepth = formats.depth != VK_FORMAT_UNDEFINED;
@@ -49,47 +49,13 @@ void Backdrop::recordDraw(VkCommandBuffer commands, const View& view, const Scen
   const bool lava = style == LookStyle::Lava;
   p.eye = {view.eye.x, view.eye.y, view.eye.z, lava ? gpu::kLookLava : gpu::kLookPlain};
   detail::setViewport(m.c, commands, view.extent);
-  const auto draw = [&](uint32_t kind, const Vec3& at, const glm::vec4& size, uint32_t vertices) {
-    p.solid = {at.x, at.y, at.z, float(kind)};
-    p.size = size;
-    m.c.vk.CmdPushConstants(commands, m.layout,
-                            VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                            sizeof(p), &p);
-    m.c.vk.CmdDraw(commands, vertices, 1, 0, 0);
-  };
   const auto drawSky = [&] {
     m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.sky);
     m.c.vk.CmdDraw(commands, gpu::kSkyVertices, 1, 0, 0);
   };
   if (lava && !m.hasDepth) drawSky();  // without a depth test, first, under the solids
   m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.pipeline);
-  draw(gpu::kSolidGround, {}, {}, gpu::kGroundVertices);
-  for (const Collider& c : scene.colliders) {
-    switch (c.type) {
-      case ColliderType::Cone:
-        draw(gpu::kSolidCone, c.position, {c.baseRadius, c.topRadius, c.height, 0.0f},
-             gpu::kConeVertices);
-        break;
-      case ColliderType::Sphere:
-        draw(gpu::kSolidSphere, c.position, {c.radius, 0.0f, 0.0f, 0.0f}, gpu::kSphereVertices);
-        break;
-      case ColliderType::Box:
-        draw(gpu::kSolidBox, c.position, {c.size.x, c.size.y, c.size.z, 0.0f}, gpu::kBoxVertices);
-        break;
-      case ColliderType::Plane: {
-        const glm::vec3 n = glm::normalize(glm::vec3(c.normal.x, c.normal.y, c.normal.z));
-        draw(gpu::kSolidPlane, c.position, {n, 0.0f}, gpu::kPlaneVertices);
-        break;
-      }
-    }
-  }
-  if (scene.colliders.empty() && vent.shape == Shape::Disc) {
-    // Scenery only: the crater of a scene without colliders (the seed scene's) is not solid.
-    const float top = std::max(vent.position.y, 0.05f);
-    const float rim = std::max(vent.radius, 0.05f) * 1.3f;
-    draw(gpu::kSolidCone, {vent.position.x, 0.0f, vent.position.z},
-         {rim + top * 0.9f, rim, top, 0.0f}, gpu::kConeVertices);
-  }
+  detail::recordSolids(m.c, commands, m.layout, scene, p);
   if (lava && m.hasDepth) drawSky();  // last, at the far plane: where no solid is
 }
 

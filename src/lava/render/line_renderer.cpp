@@ -121,6 +121,17 @@ struct LineRenderer::Impl {
   std::vector<detail::UniqueBufferView> accumulationTexels;
   std::vector<Buffer> marks;
   std::vector<GlowSlot> glow;
+  // setSceneDepth(true): the solids' depth per frame slot (made by the slot's first frame at
+  // the extent), drawn by a depth-only pass of Lava's own, made on the first need.
+  bool ownDepth = false;
+  struct SceneDepth {
+    detail::Image image;
+    detail::UniqueFramebuffer framebuffer;
+  };
+  std::vector<SceneDepth> sceneDepths;
+  detail::UniqueRenderPass depthPass;
+  detail::UniquePipelineLayout solidsLayout;
+  detail::UniquePipeline solidsDepth;
   // Per frame slot, without push descriptors: recordPrepare() starts the slot's frame.
   mutable std::vector<detail::DescriptorArena> sets;
 
@@ -137,6 +148,10 @@ struct LineRenderer::Impl {
                : d.buffer(binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, accumulation[frame].get());
   }
 
+  // Records slot `frame`'s scene depth (the solids of the simulation's scene, depth only)
+  // and returns its view, in DEPTH_STENCIL_READ_ONLY_OPTIMAL and visible to compute reads.
+  VkImageView recordSceneDepth(VkCommandBuffer commands, uint32_t frame,
+                               const GpuSimulation& simulation, const View& view);
   // The flow's molten rock under the lines, both renderers alike.
   void recordRock(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
                   const View& view) const;
@@ -233,6 +248,108 @@ LookStyle LineRenderer::style() const {
   return impl_->style;
 }
 
+void LineRenderer::setSceneDepth(bool on) {
+  impl_->ownDepth = on;
+}
+
+bool LineRenderer::sceneDepth() const {
+  return impl_->ownDepth;
+}
+
+VkImageView LineRenderer::Impl::recordSceneDepth(VkCommandBuffer commands, uint32_t frame,
+                                                 const GpuSimulation& simulation,
+                                                 const View& view) {
+  constexpr VkFormat kDepth = VK_FORMAT_D32_SFLOAT;
+  if (!depthPass) {
+    // Cleared, written, left for the splat to sample; it waits for the slot's last splat.
+    VkAttachmentDescription a{};
+    a.format = kDepth;
+    a.samples = VK_SAMPLE_COUNT_1_BIT;
+    a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    a.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    a.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    a.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    a.finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
+    const VkAttachmentReference ref{0, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription subpass{};
+    subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    subpass.pDepthStencilAttachment = &ref;
+    constexpr VkPipelineStageFlags kTests =
+        VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    VkSubpassDependency dependencies[2] = {};
+    dependencies[0] = {
+        VK_SUBPASS_EXTERNAL,
+        0,
+        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+        kTests,
+        0,
+        VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+        0};
+    dependencies[1] = {0,
+                       VK_SUBPASS_EXTERNAL,
+                       kTests,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                       VK_ACCESS_SHADER_READ_BIT,
+                       0};
+    VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+    info.attachmentCount = 1;
+    info.pAttachments = &a;
+    info.subpassCount = 1;
+    info.pSubpasses = &subpass;
+    info.dependencyCount = 2;
+    info.pDependencies = dependencies;
+    VkRenderPass pass = VK_NULL_HANDLE;
+    VK_CHECK(c.vk.CreateRenderPass(c.device(), &info, c.allocator(), &pass));
+    depthPass = detail::UniqueRenderPass(c, pass);
+    solidsLayout =
+        detail::createPipelineLayout(c, VK_NULL_HANDLE, kDrawStages, sizeof(gpu::BackdropParams));
+    detail::GraphicsPipelineDesc solids{LAVA_SPIRV(spirv::kGroundVertSpv),
+                                        {nullptr, 0},
+                                        {VK_FORMAT_UNDEFINED, kDepth, depthPass, 0}};
+    solidsDepth = detail::createGraphicsPipeline(c, solidsLayout, solids);
+  }
+  if (sceneDepths.size() <= frame) sceneDepths.resize(frame + 1);
+  SceneDepth& d = sceneDepths[frame];
+  if (!d.image.image) {
+    d.image = detail::createImage(
+        c, extent, kDepth, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+        VK_IMAGE_ASPECT_DEPTH_BIT);
+    const VkImageView attachment = d.image.view;
+    VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+    info.renderPass = depthPass;
+    info.attachmentCount = 1;
+    info.pAttachments = &attachment;
+    info.width = extent.width;
+    info.height = extent.height;
+    info.layers = 1;
+    VkFramebuffer framebuffer = VK_NULL_HANDLE;
+    VK_CHECK(c.vk.CreateFramebuffer(c.device(), &info, c.allocator(), &framebuffer));
+    d.framebuffer = detail::UniqueFramebuffer(c, framebuffer);
+  }
+  VkClearValue clear{};
+  clear.depthStencil = {1.0f, 0};
+  VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+  begin.renderPass = depthPass;
+  begin.framebuffer = d.framebuffer;
+  begin.renderArea = {{0, 0}, extent};
+  begin.clearValueCount = 1;
+  begin.pClearValues = &clear;
+  c.vk.CmdBeginRenderPass(commands, &begin, VK_SUBPASS_CONTENTS_INLINE);
+  detail::setViewport(c, commands, extent);
+  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, solidsDepth);
+  const Scene& scene = simulation.scene();
+  gpu::BackdropParams p{};
+  p.viewProj = glm::make_mat4(view.viewProj.m);
+  const Emitter& vent = scene.emitters.at(0);
+  p.vent = {vent.position.x, vent.position.y, vent.position.z, vent.radius};
+  p.eye = {view.eye.x, view.eye.y, view.eye.z, gpu::kLookLava};
+  detail::recordSolids(c, commands, solidsLayout, scene, p);
+  c.vk.CmdEndRenderPass(commands);
+  return d.image.view;
+}
+
 void LineRenderer::setSettings(const LookSettings& s) {
   if (!(s.exposure > 0.0f && s.exposure <= 16.0f))
     throw InvalidArgument("exposure", "expected (0, 16], got " + std::to_string(s.exposure));
@@ -302,6 +419,7 @@ void LineRenderer::setExtent(VkExtent2D extent) {
   if (extent.width == 0 || extent.height == 0)
     throw InvalidArgument("extent", "expected a non-empty size");
   m.sets.clear();  // sets of the old layouts name the old buffers
+  m.sceneDepths.clear();
   m.accumulationTexels.clear();
   m.accumulation.clear();
   m.marks.clear();
@@ -553,6 +671,7 @@ void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
   detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  if (splat && !depth && m.ownDepth) depth = m.recordSceneDepth(commands, frame, simulation, view);
   if (splat) m.recordSplat(commands, frame, simulation, view, depth);
   if (glow) {
     const gpu::GlowParams params = glowParams(simulation, view, m.settings, m.grid);

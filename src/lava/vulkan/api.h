@@ -66,6 +66,12 @@ namespace lava::detail {
   X(CreateComputePipelines)       \
   X(CreateGraphicsPipelines)      \
   X(DestroyPipeline)              \
+  X(CreateRenderPass)             \
+  X(DestroyRenderPass)            \
+  X(CreateFramebuffer)            \
+  X(DestroyFramebuffer)           \
+  X(CmdBeginRenderPass)           \
+  X(CmdEndRenderPass)             \
   X(CreateCommandPool)            \
   X(DestroyCommandPool)           \
   X(AllocateCommandBuffers)       \

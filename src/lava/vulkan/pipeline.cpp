@@ -48,7 +48,9 @@ UniquePipeline createComputePipeline(const DeviceContext& c, VkPipelineLayout la
 UniquePipeline createGraphicsPipeline(const DeviceContext& c, VkPipelineLayout layout,
                                       const GraphicsPipelineDesc& desc) {
   const UniqueShaderModule vert = createShaderModule(c, desc.vert);
-  const UniqueShaderModule frag = createShaderModule(c, desc.frag);
+  const bool fragment = desc.frag.code != nullptr;  // none: depth only
+  const UniqueShaderModule frag =
+      fragment ? createShaderModule(c, desc.frag) : UniqueShaderModule();
   VkPipelineShaderStageCreateInfo stages[2] = {};
   stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
   stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
@@ -104,7 +106,8 @@ UniquePipeline createGraphicsPipeline(const DeviceContext& c, VkPipelineLayout l
   }
   VkPipelineColorBlendStateCreateInfo colorBlend{
       VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-  colorBlend.attachmentCount = 1;
+  const bool color = desc.target.color != VK_FORMAT_UNDEFINED;
+  colorBlend.attachmentCount = color ? 1 : 0;
   colorBlend.pAttachments = &blend;
   const VkDynamicState dynamics[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
   VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
@@ -112,7 +115,7 @@ UniquePipeline createGraphicsPipeline(const DeviceContext& c, VkPipelineLayout l
   dynamic.pDynamicStates = dynamics;
   // For the host's render pass and subpass, or for dynamic rendering with these formats.
   VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-  rendering.colorAttachmentCount = 1;
+  rendering.colorAttachmentCount = color ? 1 : 0;
   rendering.pColorAttachmentFormats = &desc.target.color;
   rendering.depthAttachmentFormat = desc.target.depth;
 
@@ -123,7 +126,7 @@ UniquePipeline createGraphicsPipeline(const DeviceContext& c, VkPipelineLayout l
   } else {
     info.pNext = &rendering;
   }
-  info.stageCount = 2;
+  info.stageCount = fragment ? 2 : 1;
   info.pStages = stages;
   info.pVertexInputState = &vertexInput;
   info.pInputAssemblyState = &assembly;

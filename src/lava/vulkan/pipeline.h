@@ -34,8 +34,9 @@ UniquePipeline createComputePipeline(const DeviceContext& context, VkPipelineLay
 
 struct GraphicsPipelineDesc {
   Spirv vert;
-  Spirv frag;
-  RenderFormats target;  // its depth format UNDEFINED: no depth test or write
+  Spirv frag;            // no code: no fragment stage (a depth-only pass)
+  RenderFormats target;  // its depth format UNDEFINED: no depth test or write; its colour
+                         // format UNDEFINED: no colour attachment
   VkPrimitiveTopology topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
   bool additive = false;  // blend ONE + ONE onto the target
   // Blend src (1 - dst) + dst: colours in [0, 1) compose as 1 - (1 - a)(1 - b), so a target

@@ -46,6 +46,12 @@ inline DestroyFn<VkPipelineLayout> destroyFn(const Vk& vk, VkPipelineLayout) {
 inline DestroyFn<VkPipeline> destroyFn(const Vk& vk, VkPipeline) {
   return vk.DestroyPipeline;
 }
+inline DestroyFn<VkRenderPass> destroyFn(const Vk& vk, VkRenderPass) {
+  return vk.DestroyRenderPass;
+}
+inline DestroyFn<VkFramebuffer> destroyFn(const Vk& vk, VkFramebuffer) {
+  return vk.DestroyFramebuffer;
+}
 inline DestroyFn<VkCommandPool> destroyFn(const Vk& vk, VkCommandPool) {
   return vk.DestroyCommandPool;
 }
@@ -67,6 +73,8 @@ using UniqueDescriptorSetLayout = Unique<VkDescriptorSetLayout>;
 using UniqueDescriptorPool = Unique<VkDescriptorPool>;
 using UniquePipelineLayout = Unique<VkPipelineLayout>;
 using UniquePipeline = Unique<VkPipeline>;
+using UniqueRenderPass = Unique<VkRenderPass>;
+using UniqueFramebuffer = Unique<VkFramebuffer>;
 using UniqueCommandPool = Unique<VkCommandPool>;
 using UniqueFence = Unique<VkFence>;
 using UniqueQueryPool = Unique<VkQueryPool>;
