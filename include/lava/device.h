@@ -20,6 +20,9 @@ struct DeviceContext;
 // The host's handles. The device must have been created with what deviceRequirements()
 // lists. Lava records into command buffers of `queueFamily` and submits its blocking
 // helpers to `queue` (the host must not use that queue from another thread meanwhile).
+// Lifetimes: the instance, physical device, device, queue, allocator and pipeline cache are
+// used for as long as the Device and anything made on it exist (pipelines are built after
+// construction too); enabledFeatures only during the Device constructor.
 struct DeviceHandles {
   VkInstance instance = VK_NULL_HANDLE;
   VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;

@@ -104,7 +104,8 @@ class LAVA_API LineRenderer {
   // reads (VERTEX_SHADER and COMPUTE_SHADER / SHADER_READ); in splat mode, frame slot
   // `frame`'s splat pass (a fill, then compute); in the lava look, its glow passes (fills,
   // then compute); their results made visible to the draw (DRAW_INDIRECT, VERTEX_SHADER,
-  // FRAGMENT_SHADER reads). `depth` (optional): a view of the scene's depth (the format
+  // FRAGMENT_SHADER reads). `depth` (optional; the recorded commands use it, so it must
+  // live until they have finished): a view of the scene's depth (the format
   // given at construction; the image made with VK_IMAGE_USAGE_SAMPLED_BIT besides
   // DEPTH_STENCIL_ATTACHMENT) that the splat tests against as the pipeline's depth test
   // does. It must be complete when this is recorded: written in an earlier rendering pass

@@ -160,7 +160,9 @@ class LAVA_API GpuSimulation final : public Simulation {
   double advanceTimed(uint64_t steps);
   State state() override;
   void setState(const State& state) override;
-  // Not blocking (see Simulation): the frames recorded after it step the new scene.
+
+  // Not blocking (see Simulation): records, submits and waits for nothing; the frames
+  // recorded after it step the new scene (docs/library.md, "Live edits").
   void setScene(const Scene& scene) override;
   std::string name() const override;
 
