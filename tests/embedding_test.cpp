@@ -20,6 +20,7 @@
 #include "host/offscreen.h"
 #include "lava/lava.h"
 #include "lava/validation.h"
+#include "test_scenes.h"
 #include "vulkan_test.h"
 
 namespace lava {
@@ -1064,13 +1065,7 @@ TEST_F(EmbeddingDraw, ASceneDepthOfLavasOwnHidesLavaBehindTheConeInAColourOnlyPa
   const VkDevice vk = device().handles().device;
   constexpr VkFormat kColor = VK_FORMAT_B8G8R8A8_UNORM;
   constexpr VkExtent2D kExtent{320, 240};
-  Scene scene;
-  Collider cone;
-  cone.type = ColliderType::Cone;
-  cone.baseRadius = 1.6f;
-  cone.topRadius = 0.4f;
-  cone.height = 1.4f;
-  scene.colliders = {cone};
+  Scene scene = test::coneScene();
   scene.emitters[0].particles = 1;
   const OrbitCamera camera;
   const View view{camera.viewProj(float(kExtent.width) / float(kExtent.height)), kExtent,

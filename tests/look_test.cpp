@@ -18,6 +18,7 @@
 #include "host/frame_renderer.h"
 #include "host/offscreen.h"
 #include "lava/lava.h"
+#include "test_scenes.h"
 #include "vulkan_test.h"
 
 namespace lava {
@@ -123,18 +124,8 @@ class LookTest : public test::VulkanTest {
       }
     return out;
   }
-  // The volcano's cone at the origin; the ground direction from the camera through its axis,
-  // and across it.
-  static Scene coneScene() {
-    Scene scene;
-    Collider cone;
-    cone.type = ColliderType::Cone;
-    cone.baseRadius = 1.6f;
-    cone.topRadius = 0.4f;
-    cone.height = 1.4f;
-    scene.colliders = {cone};
-    return scene;
-  }
+  // The ground direction from the camera through the cone's axis (test::coneScene()), and
+  // across it.
   glm::vec3 awayFromCamera() const {
     return glm::normalize(-glm::vec3(camera_.eye().x, 0.0f, camera_.eye().z));
   }
@@ -271,7 +262,7 @@ TEST_F(LookTest, SplatHidesWhatTheConeHides) {
   // A particle behind the volcano's cone, seen from the camera, is drawn by neither
   // renderer (the splat tests each line's ends against the scene's depth); the same
   // particle beside the cone is.
-  Scene scene = coneScene();
+  Scene scene = test::coneScene();
   scene.lineScale = 0.04f;
   const glm::vec3 away = awayFromCamera(), side = besideCone();
   const glm::vec3 behind = away * 2.2f + glm::vec3(0.0f, 0.3f, 0.0f);
@@ -330,7 +321,7 @@ TEST_F(LookTest, ASettledPoolHasNoHoles) {
 TEST_F(LookTest, TheConeHidesRockBehindIt) {
   // A molten pool behind the volcano's cone, seen from the camera, is hidden by it in both
   // renderers; the same pool beside the cone is drawn.
-  const Scene scene = coneScene();
+  const Scene scene = test::coneScene();
   const glm::vec3 away = awayFromCamera(), side = besideCone();
   for (LineMode mode : kModes) {
     SCOPED_TRACE(name(mode));

@@ -13,6 +13,18 @@
 
 namespace lava::test {
 
+// The volcano's cone at the origin (the look and embedding tests hide lava behind it).
+inline Scene coneScene() {
+  Scene scene;
+  Collider cone;
+  cone.type = ColliderType::Cone;
+  cone.baseRadius = 1.6f;
+  cone.topRadius = 0.4f;
+  cone.height = 1.4f;
+  scene.colliders = {cone};
+  return scene;
+}
+
 // The module scenes (scenes/modules/*.toml: each module of docs/model.md on its own and all
 // of them together, 20,000+ particles), the ones the builtin suite runs too: their names, for
 // parameterised tests.

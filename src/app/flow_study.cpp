@@ -22,10 +22,10 @@ constexpr double kPi = 3.14159265358979323846;
 
 // Martin & Moyce (1952), n^2 = 2: T = t sqrt(2g/a), Z = front / a
 // (docs/data/martin-moyce-1952.csv).
-constexpr double kMartinMoyce[][2] = {
-    {0.41, 1.11}, {0.84, 1.22}, {1.19, 1.44}, {1.43, 1.67}, {1.63, 1.89},
-    {1.83, 2.11}, {1.98, 2.33}, {2.20, 2.56}, {2.32, 2.78}, {2.51, 3.00},
-    {2.65, 3.22}, {2.83, 3.44}, {2.98, 3.67}, {3.11, 3.89}, {3.33, 4.11}};
+constexpr double kMartinMoyce[][2] = {{0.41, 1.11}, {0.84, 1.22}, {1.19, 1.44}, {1.43, 1.67},
+                                      {1.63, 1.89}, {1.83, 2.11}, {1.98, 2.33}, {2.20, 2.56},
+                                      {2.32, 2.78}, {2.51, 3.00}, {2.65, 3.22}, {2.83, 3.44},
+                                      {2.98, 3.67}, {3.11, 3.89}, {3.33, 4.11}};
 
 // A flow of constant viscosity `nu`, never cooling, and one emitter filling a box of
 // n.x by n.y by n.z lattice sites of `spacing` centred at `centre`, at rest.
@@ -89,6 +89,13 @@ void run(const Scene& s, unsigned threads, const std::vector<double>& times,
   }
 }
 
+// The farthest particle along x: a current's front.
+double front(const State& state) {
+  float x = 0.0f;
+  for (const Particle& p : state.particles) x = std::max(x, p.px);
+  return x;
+}
+
 std::vector<double> every(double dt, double until) {
   std::vector<double> times;
   for (int k = 1; double(k) * dt <= until * (1.0 + 1e-9); ++k) times.push_back(double(k) * dt);
@@ -115,7 +122,8 @@ FlowStudy nusselt(const FlowStudyOptions& o) {
   sides(s, 0.5f * kWidth);
   const double volume = double(s.emitters[0].mass) / 2600.0;
   const double depth = 6.0 * kSpacing;
-  const double seconds = o.seconds > 0.0 ? o.seconds : std::min(4.0, std::max(1.0, 5.0 * depth * depth / nu));
+  const double seconds =
+      o.seconds > 0.0 ? o.seconds : std::min(4.0, std::max(1.0, 5.0 * depth * depth / nu));
   FlowStudy study{"depth-averaged speed (m/s)", "Nusselt: g sin(30°) H^2 / (3 nu)", {}, 0.0, 0.2};
   run(s, o.threads, every(seconds / 20.0, seconds), [&](double t, const State& state) {
     std::vector<float> xs;
@@ -130,8 +138,8 @@ FlowStudy nusselt(const FlowStudyOptions& o) {
         ++count;
       }
     const double h = double(count) * volume / (2.0 * half * kWidth);
-    study.samples.push_back({t, count ? speed / double(count) : 0.0,
-                             kG * 0.5 * h * h / (3.0 * nu)});
+    study.samples.push_back(
+        {t, count ? speed / double(count) : 0.0, kG * 0.5 * h * h / (3.0 * nu)});
   });
   study.deviation = deviation(study.samples, 0.75 * seconds);
   return study;
@@ -153,9 +161,7 @@ FlowStudy damBreak(const FlowStudyOptions& o) {
   FlowStudy study{"front / a", "Martin & Moyce (1952), n^2 = 2", {}, 0.0, 0.1};
   size_t k = 0;
   run(s, o.threads, times, [&](double t, const State& state) {
-    float front = 0.0f;
-    for (const Particle& p : state.particles) front = std::max(front, p.px);
-    study.samples.push_back({t, double(front) / kA, kMartinMoyce[k++][1]});
+    study.samples.push_back({t, front(state) / kA, kMartinMoyce[k++][1]});
   });
   for (const FlowSample& x : study.samples)
     if (x.t * scale >= 1.5 && x.t * scale <= 3.0)
@@ -174,13 +180,10 @@ FlowStudy huppertSlope(const FlowStudyOptions& o) {
   s.friction = 0.0f;
   sides(s, 2.0f * kSpacing);
   const double area = 0.2 * 0.1, seconds = o.seconds > 0.0 ? o.seconds : 4.0;
-  FlowStudy study{"front (m)", "Huppert (1982): (9 A^2 g sin(30°) t / (4 nu))^(1/3)", {}, 0.0,
-                  0.1};
+  FlowStudy study{"front (m)", "Huppert (1982): (9 A^2 g sin(30°) t / (4 nu))^(1/3)", {}, 0.0, 0.1};
   run(s, o.threads, every(seconds / 16.0, seconds), [&](double t, const State& state) {
-    float front = 0.0f;
-    for (const Particle& p : state.particles) front = std::max(front, p.px);
     study.samples.push_back(
-        {t, front, std::cbrt(9.0 * area * area * kG * 0.5 * t / (4.0 * nu))});
+        {t, front(state), std::cbrt(9.0 * area * area * kG * 0.5 * t / (4.0 * nu))});
   });
   study.deviation = deviation(study.samples, 0.5 * seconds);
   return study;
@@ -197,8 +200,7 @@ FlowStudy huppertSpread(const FlowStudyOptions& o) {
   const double volume = 3375.0 * double(kSpacing) * kSpacing * kSpacing;
   const double seconds = o.seconds > 0.0 ? o.seconds : 10.0;
   const double similarity = std::pow(1024.0 / (81.0 * kPi * kPi * kPi), 0.125);  // 0.894
-  FlowStudy study{"bulk front (m)", "Huppert (1982): 0.894 (g V^3 t / (3 nu))^(1/8)", {}, 0.0,
-                  0.1};
+  FlowStudy study{"bulk front (m)", "Huppert (1982): 0.894 (g V^3 t / (3 nu))^(1/8)", {}, 0.0, 0.1};
   run(s, o.threads, every(seconds / 20.0, seconds), [&](double t, const State& state) {
     double cx = 0.0, cz = 0.0;
     for (const Particle& p : state.particles) cx += p.px, cz += p.pz;
@@ -208,9 +210,9 @@ FlowStudy huppertSpread(const FlowStudyOptions& o) {
     double r2 = 0.0;
     for (const Particle& p : state.particles)
       r2 += (p.px - cx) * (p.px - cx) + (p.pz - cz) * (p.pz - cz);
-    study.samples.push_back({t, std::sqrt(7.0 / 3.0 * r2 / n),
-                             similarity * std::pow(kG * std::pow(volume, 3.0) * t / (3.0 * nu),
-                                                   0.125)});
+    study.samples.push_back(
+        {t, std::sqrt(7.0 / 3.0 * r2 / n),
+         similarity * std::pow(kG * std::pow(volume, 3.0) * t / (3.0 * nu), 0.125)});
   });
   study.deviation = deviation(study.samples, 0.5 * seconds);
   return study;
@@ -231,8 +233,8 @@ FlowStudy atRest(const FlowStudyOptions& o) {
   run(s, o.threads, every(seconds / 8.0, seconds), [&](double t, const State& state) {
     double fastest = 0.0;
     for (const Particle& p : state.particles)
-      fastest = std::max(fastest, std::sqrt(double(p.vx) * p.vx + double(p.vy) * p.vy +
-                                            double(p.vz) * p.vz));
+      fastest = std::max(
+          fastest, std::sqrt(double(p.vx) * p.vx + double(p.vy) * p.vy + double(p.vz) * p.vz));
     study.samples.push_back({t, fastest, 0.0});
   });
   study.deviation = study.samples.back().measured;

@@ -14,8 +14,8 @@
 #include "lava/lava.h"
 #include "lava/scene_keys.h"
 #include "options.h"
-#include "runtime.h"
 #include "paths.h"
+#include "runtime.h"
 
 namespace lava::app {
 namespace {
@@ -65,17 +65,18 @@ class StudyCommand final : public Command {
                  [this](const std::string& src, const std::string& t) {
                    seconds_ = parseNumber(src, t, 0.0, 1000.0, true);
                  });
-    options_.add("flow",
-                 "instead: the flow against a published solution, on the CPU reference; one of " +
-                     std::string(kFlowCases) + " (docs/flow.md); exit 1 outside its tolerance",
-                 [this](const std::string& src, const std::string& t) {
-                   const std::string cases = std::string(", ") + kFlowCases + ",";
-                   if (t.empty() || cases.find(", " + t + ",") == std::string::npos)
-                     throw UsageError(src + ": expected one of " + kFlowCases + ", got '" + t +
-                                      "'");
-                   flow_ = t;
-                 });
-    options_.add("viscosity", "--flow: the flow's constant viscosity (m^2/s), [1e-6, 1e4] [the case's]",
+    options_.add(
+        "flow",
+        "instead: the flow against a published solution, on the CPU reference; one of " +
+            std::string(kFlowCases) + " (docs/flow.md); exit 1 outside its tolerance",
+        [this](const std::string& src, const std::string& t) {
+          const std::string cases = std::string(", ") + kFlowCases + ",";
+          if (t.empty() || cases.find(", " + t + ",") == std::string::npos)
+            throw UsageError(src + ": expected one of " + kFlowCases + ", got '" + t + "'");
+          flow_ = t;
+        });
+    options_.add("viscosity",
+                 "--flow: the flow's constant viscosity (m^2/s), [1e-6, 1e4] [the case's]",
                  [this](const std::string& src, const std::string& t) {
                    viscosity_ = parseNumber(src, t, 1e-6, 1e4);
                  });
