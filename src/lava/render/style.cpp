@@ -49,7 +49,7 @@ void recordSolids(const DeviceContext& c, VkCommandBuffer commands, VkPipelineLa
   }
   const Emitter& vent = scene.emitters.at(0);
   if (scene.colliders.empty() && vent.shape == Shape::Disc) {
-    // Scenery only: the crater of a scene without colliders (the seed scene's) is not solid.
+    // Scenery only: the crater of a scene without colliders (crater.toml's) is not solid.
     const float top = std::max(vent.position.y, 0.05f);
     const float rim = std::max(vent.radius, 0.05f) * 1.3f;
     draw(gpu::kSolidCone, {vent.position.x, 0.0f, vent.position.z},
