@@ -259,6 +259,16 @@ TEST(Suite, BadSuitesAreUsageErrors) {
   EXPECT_EQ(lava("validate --steps 10 --junit " + scratch("x.xml")).status, 2);
   EXPECT_EQ(lava("validate --suite builtin --steps 10").status, 2);
   EXPECT_EQ(lava("validate --suite /nonexistent.toml").status, 2);
+  for (const auto& [flags, mentions] : std::vector<std::pair<std::string, std::string>>{
+           {"--suite builtin --cases seed-scene,nothing", "no case 'nothing'"},
+           {"--suite builtin --cases seed-scene,,all", "--cases"},
+           {"--suite builtin --cases all,all", "--cases"},
+           {"--steps 10 --cases all", "needs --suite"}}) {
+    const Result r = lava("validate " + flags);
+    EXPECT_EQ(r.status, 2) << flags << r.err;
+    EXPECT_NE(r.err.find(mentions), std::string::npos) << flags << r.err;
+    EXPECT_EQ(count(r.err, "\n"), 1) << r.err;
+  }
 }
 
 TEST(Environment, BadLavaDeviceIsAUsageError) {

@@ -9,7 +9,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 dir=${2:-build-fuzz}
+# Line tables only (-g1), as in tests/sanitize.sh: reports name file and line.
 CC=clang CXX=clang++ cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLAVA_FUZZ=ON \
+  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" \
   -DCMAKE_CXX_FLAGS=-Werror -DLAVA_BUILD_TESTS=OFF -DLAVA_BUILD_PYTHON=OFF \
   -DLAVA_INSTALL=OFF >/dev/null
 cmake --build "$dir" -j2 >/dev/null || cmake --build "$dir" -j1  # the second shows the error

@@ -5,19 +5,20 @@
 #include <chrono>
 #include <cstdio>
 #include <optional>
+#include <set>
 #include <thread>
 
 #include "commands.h"
 #include "host/output.h"
+#include "lava/checkpoint.h"
 #include "lava/lava.h"
 #include "lava/scene_keys.h"
 #include "lava/validation.h"
-#include "lava/checkpoint.h"
 #include "options.h"
+#include "paths.h"
 #include "resume.h"
 #include "runtime.h"
 #include "suite.h"
-#include "paths.h"
 
 namespace lava::app {
 namespace {
@@ -59,6 +60,9 @@ class ValidateCommand final : public Command {
                  });
     options_.add("suite", "run a suite of cases: FILE.toml ([[case]] tables) or builtin",
                  [this](const std::string&, const std::string& t) { suite_ = t; });
+    options_.add(
+        "cases", "with --suite: run only these cases, NAME[,NAME...] in the suite's order",
+        [this](const std::string& src, const std::string& t) { cases_ = splitCases(src, t); });
     options_.add("junit", "with --suite: write a JUnit XML report to FILE.xml",
                  [this](const std::string& src, const std::string& t) {
                    checkOutputPath(src, t, ".xml");
@@ -92,18 +96,17 @@ class ValidateCommand final : public Command {
       if (!suite_.empty()) throw UsageError("--resume: not with --suite");
     }
     if (suite_.empty()) {
-      for (const char* flag : {"junit", "results", "baseline", "record", "against"})
-        if (options_.given(flag))
-          throw UsageError(std::string("--") + flag + ": needs --suite");
+      for (const char* flag : {"cases", "junit", "results", "baseline", "record", "against"})
+        if (options_.given(flag)) throw UsageError(std::string("--") + flag + ": needs --suite");
       if (steps_ == 0) throw UsageError("--steps is required: steps to run, 1..1e9");
       return single();
     }
     if (options_.given("steps") || options_.given("every") || options_.given("csv"))
       throw UsageError(std::string("--") +
-                             (options_.given("steps")   ? "steps"
-                              : options_.given("every") ? "every"
-                                                        : "csv") +
-                             ": the cases of a suite give their own (drop it with --suite)");
+                       (options_.given("steps")   ? "steps"
+                        : options_.given("every") ? "every"
+                                                  : "csv") +
+                       ": the cases of a suite give their own (drop it with --suite)");
     return suite();
   }
 
@@ -242,9 +245,41 @@ class ValidateCommand final : public Command {
     return r;
   }
 
+  // NAME[,NAME...]: each a name, none twice.
+  static std::set<std::string> splitCases(const std::string& src, const std::string& text) {
+    std::set<std::string> names;
+    size_t start = 0;
+    while (true) {
+      const size_t comma = text.find(',', start);
+      const std::string name = text.substr(start, comma - start);
+      if (name.empty() || !names.insert(name).second)
+        throw UsageError(src + ": expected case names, each once, separated by commas, got '" +
+                         text + "'");
+      if (comma == std::string::npos) return names;
+      start = comma + 1;
+    }
+  }
+
+  // The suite's cases that --cases names (all without it), in the suite's order.
+  std::vector<Case> chosen(std::vector<Case> cases) const {
+    if (cases_.empty()) return cases;
+    for (const std::string& name : cases_)
+      if (std::none_of(cases.begin(), cases.end(), [&](const Case& c) { return c.name == name; })) {
+        std::string names;
+        for (const Case& c : cases) names += (names.empty() ? "" : ", ") + c.name;
+        throw UsageError("--cases: suite " + suite_ + " has no case '" + name + "' (it has " +
+                         names + ")");
+      }
+    cases.erase(std::remove_if(cases.begin(), cases.end(),
+                               [&](const Case& c) { return cases_.count(c.name) == 0; }),
+                cases.end());
+    return cases;
+  }
+
   int suite() {
     Device device(deviceOptions(device_));
-    const std::vector<Case> cases = suite_ == "builtin" ? builtinSuite(device) : loadSuite(suite_);
+    const std::vector<Case> cases =
+        chosen(suite_ == "builtin" ? builtinSuite(device) : loadSuite(suite_));
     const std::set<std::string> expectedFailures =
         baseline_.empty() ? std::set<std::string>{} : readBaseline(baseline_);
     std::optional<Recording> recording;
@@ -290,6 +325,7 @@ class ValidateCommand final : public Command {
   uint32_t tolerance_ = 0;
   CpuKernel kernel_ = CpuKernel::Reference;
   std::string csv_, suite_, junit_, results_, baseline_, record_, against_;
+  std::set<std::string> cases_;      // --cases
   std::optional<Snapshot> resumed_;  // --resume
 };
 
