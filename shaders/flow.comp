@@ -78,6 +78,15 @@ uint runCountAt(uint r) {
 uint runStartAt(uint r) {
   return runCountAt(runs() + r);
 }
+uint blocks() {
+  return runs() / kFlowBlock;
+}
+uint blockCountAt(uint k) {
+  return runStartAt(runs() + k);
+}
+uint blockStartAt(uint k) {
+  return blockCountAt(blocks() + k);
+}
 
 // The flow emitter (an index into flow.emitters) of flow index f.
 uint flowEmitter(uint f) {
@@ -216,6 +225,12 @@ void births(uint f) {
       heat[f] = FlowHeat(fe.weights.w, 0u);
     }
   }
+  if (!(q.posAge.w < 0.0) && nonFinite(q.posAge.xyz, q.velMass.xyz)) {
+    // Dies before any neighbour reads it (docs/model.md "Non-finite values").
+    q = Particle(vec4(0.0, 0.0, 0.0, -1.0), vec4(0.0, 0.0, 0.0, q.velMass.w));
+    particles[f] = q;
+    heat[f] = FlowHeat(0.0, 0u);
+  }
   if (q.posAge.w < 0.0) {
     scratch[f].cell = ivec4(0, 0, 0, int(kFlowUnsorted));
     return;
@@ -226,16 +241,17 @@ void births(uint f) {
   scratch[f].own = vec4(viscosityAt(heat[f].temperature), fe.weights.xyz);
   atomicAdd(grid[b], 1u);
   atomicAdd(grid[runCountAt(b / kFlowRun)], 1u);
+  atomicAdd(grid[blockCountAt(b / (kFlowRun * kFlowBlock))], 1u);
 }
 
-// One workgroup: each run's start from the runs' counts (the runs in turns of consecutive
-// runs per invocation, then the turns' sums in order), each run's count back to 0; the total
-// after the last bucket's start.
+// One workgroup: each block's start from the blocks' counts (the blocks in turns of
+// consecutive blocks per invocation, then the turns' sums in order), each block's count back
+// to 0; the total after the last bucket's start.
 void scan(uint t) {
-  const uint per = max(runs() / kWorkgroupSize, 1u);
-  const uint begin = min(t * per, runs()), end = min(begin + per, runs());
+  const uint per = max(blocks() / kWorkgroupSize, 1u);
+  const uint begin = min(t * per, blocks()), end = min(begin + per, blocks());
   uint sum = 0u;
-  for (uint r = begin; r < end; ++r) sum += grid[runCountAt(r)];
+  for (uint k = begin; k < end; ++k) sum += grid[blockCountAt(k)];
   partial[t] = sum;
   barrier();
   if (t == 0u) {
@@ -249,7 +265,20 @@ void scan(uint t) {
   }
   barrier();
   uint running = partial[t];
-  for (uint r = begin; r < end; ++r) {
+  for (uint k = begin; k < end; ++k) {
+    const uint count = grid[blockCountAt(k)];
+    grid[blockStartAt(k)] = running;
+    grid[blockCountAt(k)] = 0u;
+    running += count;
+  }
+}
+
+// Per block of kFlowBlock runs: their starts from the block's, and their counts back to 0
+// (no barrier: every block at once).
+void blockStarts(uint k) {
+  const uint first = k * kFlowBlock;
+  uint running = grid[blockStartAt(k)];
+  for (uint r = first; r < first + kFlowBlock; ++r) {
     const uint count = grid[runCountAt(r)];
     grid[runStartAt(r)] = running;
     grid[runCountAt(r)] = 0u;
@@ -276,13 +305,22 @@ void scatter(uint f) {
   grid[sortedAt(grid[startAt(b)] + atomicAdd(grid[b], 1u))] = f;
 }
 
-// A bucket's slots in flow index order (buckets hold a few slots: an insertion sort), and its
-// count back to 0 for the next step.
+// A bucket's kFlowBucketCap lowest flow indices first, in order: all that the neighbour
+// loops read of it (the rest keep the scatter's order, which nothing reads). Linear in the
+// bucket: an insertion sort of its first slots, then each later slot compared with the
+// largest kept and inserted only when smaller. Its count back to 0 for the next step.
 void order(uint b) {
   const uint begin = grid[startAt(b)], end = grid[startAt(b + 1u)];
+  const uint kept = begin + min(end - begin, kFlowBucketCap);
   for (uint e = begin + 1u; e < end; ++e) {
     const uint f = grid[sortedAt(e)];
     uint at = e;
+    if (e >= kept) {  // a later slot: in only when below the largest kept, which goes to e
+      at = kept - 1u;
+      const uint largest = grid[sortedAt(at)];
+      if (f >= largest) continue;
+      grid[sortedAt(e)] = largest;
+    }
     while (at > begin && grid[sortedAt(at - 1u)] > f) {
       grid[sortedAt(at)] = grid[sortedAt(at - 1u)];
       --at;
@@ -292,8 +330,16 @@ void order(uint b) {
   grid[b] = 0u;
 }
 
+// The number of a bucket's slots the neighbour loops read (at most kFlowBucketCap), one more
+// for i's own home bucket when i lies beyond them: i is then read after them.
+uint bucketReads(uint i, uint begin, uint end, bool home) {
+  if (end - begin <= kFlowBucketCap) return end - begin;
+  return kFlowBucketCap + (home && i > grid[sortedAt(begin + kFlowBucketCap - 1u)] ? 1u : 0u);
+}
+
 // The neighbour loops of both passes: every flow slot j within the radius of slot i (i
-// included), the cells z, then y, then x, each bucket's slots in order. BODY sees j, d, q, t.
+// included), the cells z, then y, then x, each bucket's first kFlowBucketCap slots in order
+// (and i, if beyond them). BODY sees j, d, q, t.
 #define LAVA_FOR_NEIGHBOURS(i, xi, BODY)                                              \
   {                                                                                 \
     const ivec3 home = scratch[i].cell.xyz;                                         \
@@ -302,9 +348,11 @@ void order(uint b) {
         for (int dx = -1; dx <= 1; ++dx) {                                          \
           const ivec3 cell = home + ivec3(dx, dy, dz);                              \
           const uint b = bucketOf(cell);                                            \
-          const uint end = grid[startAt(b + 1u)];                                   \
-          for (uint e = grid[startAt(b)]; e < end; ++e) {                           \
-            const uint j = grid[sortedAt(e)];                                       \
+          const uint begin = grid[startAt(b)];                                      \
+          const uint reads = bucketReads(i, begin, grid[startAt(b + 1u)],           \
+                                         dx == 0 && dy == 0 && dz == 0);            \
+          for (uint nr = 0u; nr < reads; ++nr) {                                    \
+            const uint j = nr < kFlowBucketCap ? grid[sortedAt(begin + nr)] : i;    \
             if (scratch[j].cell.xyz != cell) continue;                              \
             precise vec3 d = xi - particles[j].posAge.xyz;                          \
             precise float q = (d.x * d.x + d.y * d.y) + d.z * d.z;                  \
@@ -383,7 +431,7 @@ void forces(uint i) {
       World(scene.world.x, scene.world.w, scene.world.y, scene.world.z, scene.wind.xyz);
   precise float h = g.h;
   precise vec3 x = pi.posAge.xyz, v = pi.velMass.xyz;
-  bool touched = false, becomesCrust = isCrust;
+  bool touched = false, becomesCrust = isCrust, dies = false;
   if (!isCrust) {
     const EmitterParams ep = scene.emitters[k];
     precise float hm = ep.size.w;
@@ -403,15 +451,13 @@ void forces(uint i) {
       flush(v);
       x = x + h * v;
     }
-    if (!becomesCrust) {
-      const vec3 moved = x;
-      ground(flow.contact.y, g.friction, x, v);
-      [[unroll]] for (uint c = 0u; c < kColliders; ++c) {
-        ColliderParams contact = scene.colliders[c];
-        contact.material.x = flow.contact.y;
-        collide(contact, (kColliderKinds >> (2u * c)) & 3u, x, v);
-      }
-      touched = any(notEqual(moved, x));
+    if (!becomesCrust && nonFinite(x, v)) {  // docs/model.md "Non-finite values"
+      x = vec3(0.0);
+      v = vec3(0.0);
+      dies = true;
+    } else if (!becomesCrust) {
+      dies = contactFrom(pi.posAge.xyz, flow.contact.y, g.friction, flow.contact.y, x, v,
+                         touched);
       becomesCrust = !liquid && touched;
     }
     if (becomesCrust) v = vec3(0.0);
@@ -420,7 +466,7 @@ void forces(uint i) {
   precise float t1 = (hi.temperature + dT) - cool * (hi.temperature - flow.heat.z);
   precise float age = pi.posAge.w + h;
   const float lifetime = scene.emitters[k].spread.w;
-  if (lifetime > 0.0 && age >= lifetime) {  // dies: an unborn slot's temperature and flag
+  if (dies || (lifetime > 0.0 && age >= lifetime)) {  // an unborn slot's temperature and flag
     age = -1.0;
     t1 = 0.0;
     becomesCrust = false;
@@ -443,6 +489,10 @@ void main() {
     return;
   }
   const uint id = gl_GlobalInvocationID.x;
+  if (pass == kFlowBlockStarts) {
+    if (id < blocks()) blockStarts(id);
+    return;
+  }
   if (pass == kFlowStarts) {
     if (id < runs()) starts(id);
     return;

@@ -102,19 +102,20 @@ void respond(inout precise vec3 v, precise vec3 n, float restitution, float fric
   }
 }
 
-// The ground y = 0: restitution on y, retention and static friction on x and z.
-void ground(float restitution, float friction, inout precise vec3 x, inout precise vec3 v) {
-  if (x.y < 0.0) {
-    x.y = 0.0;
-    if (v.y < 0.0) {
-      v.x = friction * v.x;
-      v.z = friction * v.z;
-      v.y = -(restitution * v.y);
-      if (abs(v.x) < kRestSpeed) v.x = 0.0;
-      if (abs(v.z) < kRestSpeed) v.z = 0.0;
-      flush(v);
-    }
+// The ground y = 0: restitution on y, retention and static friction on x and z. Returns
+// whether it moved the particle.
+bool ground(float restitution, float friction, inout precise vec3 x, inout precise vec3 v) {
+  if (!(x.y < 0.0)) return false;
+  x.y = 0.0;
+  if (v.y < 0.0) {
+    v.x = friction * v.x;
+    v.z = friction * v.z;
+    v.y = -(restitution * v.y);
+    if (abs(v.x) < kRestSpeed) v.x = 0.0;
+    if (abs(v.z) < kRestSpeed) v.z = 0.0;
+    flush(v);
   }
+  return true;
 }
 
 // 1/sqrt(q) for q > 0 from the bit pattern and three Newton steps: only adds and
@@ -130,7 +131,7 @@ float inverseRoot(precise float q) {
 
 // The solid truncated cone (README "The crater"): pushed out through its top or its side,
 // whichever is nearer, a margin beyond the surface.
-void cone(const ColliderParams c, inout precise vec3 x, inout precise vec3 v) {
+bool cone(const ColliderParams c, inout precise vec3 x, inout precise vec3 v) {
   precise vec3 d = x - c.position.xyz;
   const float height = c.shape.z;
   if (d.y >= 0.0 && d.y < height) {
@@ -158,51 +159,129 @@ void cone(const ColliderParams c, inout precise vec3 x, inout precise vec3 v) {
       }
       respond(v, n, c.material.x, c.material.y);
       flush(v);
+      return true;
     }
   }
+  return false;
 }
 
-void collide(const ColliderParams c, uint type, inout precise vec3 x, inout precise vec3 v) {
+// Collider c of kind `type`: a particle inside is put on its surface and responds. Returns
+// whether it moved the particle.
+bool collide(const ColliderParams c, uint type, inout precise vec3 x, inout precise vec3 v) {
   if (type == kPlane) {
     precise vec3 n = c.shape.xyz;
     precise vec3 r = x - c.position.xyz;
     precise float dist = (r.x * n.x + r.y * n.y) + r.z * n.z;
-    if (dist < 0.0) {
-      x = x - dist * n;
-      respond(v, n, c.material.x, c.material.y);
-      flush(v);
-    }
-  } else if (type == kSphere) {
+    if (!(dist < 0.0)) return false;
+    x = x - dist * n;
+    respond(v, n, c.material.x, c.material.y);
+    flush(v);
+    return true;
+  }
+  if (type == kSphere) {
     precise vec3 d = x - c.position.xyz;
     precise float q = (d.x * d.x + d.y * d.y) + d.z * d.z;
-    if (q < c.shape.y) {
-      precise vec3 n = vec3(0.0, 1.0, 0.0);
-      if (q != 0.0) {
-        precise float s = sqrt(q);  // the model's one square root and division
-        n = vec3(d.x / s, d.y / s, d.z / s);
-      }
-      x = c.position.xyz + c.shape.x * n;
-      respond(v, n, c.material.x, c.material.y);
-      flush(v);
+    if (!(q < c.shape.y)) return false;
+    precise vec3 n = vec3(0.0, 1.0, 0.0);
+    if (q != 0.0) {
+      precise float s = sqrt(q);  // the model's one square root and division
+      n = vec3(d.x / s, d.y / s, d.z / s);
     }
-  } else if (type == kBox) {
+    x = c.position.xyz + c.shape.x * n;
+    respond(v, n, c.material.x, c.material.y);
+    flush(v);
+    return true;
+  }
+  if (type == kBox) {
     precise vec3 d = x - c.position.xyz;
     const vec3 e = c.shape.xyz;
-    if (abs(d.x) < e.x && abs(d.y) < e.y && abs(d.z) < e.z) {
-      precise vec3 gap = e - abs(d);
-      uint j = 0u;
-      if (gap.y < gap.x) j = 1u;
-      if (gap.z < (j == 0u ? gap.x : gap.y)) j = 2u;
-      precise float sigma = d[j] >= 0.0 ? 1.0 : -1.0;
-      x[j] = c.position[j] + sigma * e[j];
-      precise vec3 n = vec3(0.0);
-      n[j] = sigma;
-      respond(v, n, c.material.x, c.material.y);
-      flush(v);
-    }
-  } else {
-    cone(c, x, v);
+    // Standing on the ground (its bottom at or below it): the ground closes the bottom
+    // face, so the box holds from the ground up and its bottom is no exit.
+    const bool standing = c.position.y <= e.y;
+    const bool below = standing ? d.y < e.y : abs(d.y) < e.y;
+    if (!(abs(d.x) < e.x && below && abs(d.z) < e.z)) return false;
+    precise vec3 gap = e - abs(d);
+    if (standing) gap.y = e.y - d.y;
+    uint j = 0u;
+    if (gap.y < gap.x) j = 1u;
+    if (gap.z < (j == 0u ? gap.x : gap.y)) j = 2u;
+    precise float sigma = (j == 1u && standing) || d[j] >= 0.0 ? 1.0 : -1.0;
+    x[j] = c.position[j] + sigma * e[j];
+    precise vec3 n = vec3(0.0);
+    n[j] = sigma;
+    respond(v, n, c.material.x, c.material.y);
+    flush(v);
+    return true;
   }
+  return cone(c, x, v);
+}
+
+// Collider c as the particles of this pass meet it: a flow particle's restitution is the
+// flow's own (`restitution` >= 0), a spark's the collider's (`restitution` < 0).
+ColliderParams colliderAt(uint c, float restitution) {
+  ColliderParams k = scene.colliders[c];
+  if (restitution >= 0.0) k.material.x = restitution;
+  return k;
+}
+
+// One solid's visit in contact: a move restarts the count of solids that found the particle
+// outside, after which all but the mover must. Returns whether contact is done.
+bool visited(bool moved, inout uint clear, inout uint need, inout bool touched) {
+  if (moved) {
+    touched = true;
+    clear = 0u;
+    need = kColliders;
+  } else {
+    ++clear;
+  }
+  return clear >= need;
+}
+
+// docs/model.md "Contact": the ground, then the colliders in the scene's order, round and
+// round until every solid but the last to move the particle has found it outside since
+// then; at most kContactRounds rounds. Returns false when the particle is still unresolved
+// after them (the caller then takes back its start of step, or lets it die).
+bool contact(float groundRestitution, float friction, float restitution,
+             inout precise vec3 x, inout precise vec3 v, out bool touched) {
+  uint clear = 0u, need = kColliders + 1u;  // solids in a row that found it outside; how many
+  touched = false;
+  for (uint r = 0u; r < kContactRounds; ++r) {
+    if (visited(ground(groundRestitution, friction, x, v), clear, need, touched)) return true;
+    [[unroll]] for (uint c = 0u; c < kColliders; ++c) {
+      const uint kind = (kColliderKinds >> (2u * c)) & 3u;
+      if (visited(collide(colliderAt(c, restitution), kind, x, v), clear, need, touched))
+        return true;
+    }
+  }
+  return false;
+}
+
+// Whether x lies inside the ground or a collider.
+bool insideASolid(precise vec3 x) {
+  bool inside = x.y < 0.0;
+  [[unroll]] for (uint c = 0u; c < kColliders; ++c) {
+    precise vec3 at = x, v = vec3(0.0);
+    inside = collide(scene.colliders[c], (kColliderKinds >> (2u * c)) & 3u, at, v) || inside;
+  }
+  return inside;
+}
+
+// Contact for a particle that started the step at x0. An unresolved particle takes back x0
+// with v = 0; when x0 is inside a solid too, it dies (returns true; x = v = 0).
+bool contactFrom(precise vec3 x0, float groundRestitution, float friction, float restitution,
+                 inout precise vec3 x, inout precise vec3 v, out bool touched) {
+  if (contact(groundRestitution, friction, restitution, x, v, touched)) return false;
+  v = vec3(0.0);
+  const bool lost = insideASolid(x0);
+  x = lost ? vec3(0.0) : x0;
+  return lost;
+}
+
+// Whether any component is NaN or infinite (all exponent bits set): integer operations,
+// which no float mode of a driver can change.
+bool nonFinite(precise vec3 x, precise vec3 v) {
+  const uvec3 all = uvec3(0x7f800000u);
+  return any(equal(floatBitsToUint(x) & all, all)) || any(equal(floatBitsToUint(v) & all, all));
 }
 
 #endif  // LAVA_MODEL_GLSL

@@ -108,6 +108,9 @@ const float kRestSpeed = 1e-4f;
 // Velocity components below this (2^-24 m/s) become +0 after emission, the integrator and
 // each collider response: no denormal ever enters the state.
 const float kTinySpeed = 5.9604644775390625e-8;
+// Rounds of the ground and the colliders that contact runs at most (docs/model.md
+// "Contact"): a particle still inside a solid after them takes back its start of step.
+const uint kContactRounds = 4u;
 // Below this squared distance from its axis a point counts as on a cone's axis.
 const float kAxisSquared = 1e-30f;
 // The bit pattern whose halving subtraction starts the cone's 1/sqrt (then Newton steps).
@@ -183,18 +186,27 @@ const uint kFlowNextBinding = 5u;      // FlowNext per flow index: the step's re
 const uint kFlowScratchBinding = 6u;   // FlowScratch per flow index
 const uint kFlowGridBinding = 7u;      // uint: counts[buckets], start[buckets + 1], sorted[slots],
                                        // then per run of buckets its count and its start
-const uint kFlowBirths = 0u;   // per flow slot: the step's births; cell, bucket, counts
-const uint kFlowScan = 1u;     // one workgroup: each run's start; run counts to 0
-const uint kFlowStarts = 2u;   // per run of buckets: their starts; counts to 0
-const uint kFlowScatter = 3u;  // per flow slot: into its bucket (in any order)
-const uint kFlowOrder = 4u;    // per bucket: its slots in order; its count to 0
-const uint kFlowDensity = 5u;  // per flow slot: the first neighbour pass
-const uint kFlowForces = 6u;   // per flow slot: the second neighbour pass and the step
-const uint kFlowStore = 7u;    // per flow slot: the results over the state
-const uint kFlowPasses = 8u;
+const uint kFlowBirths = 0u;       // per flow slot: the step's births; cell, bucket, counts
+const uint kFlowScan = 1u;         // one workgroup: each block's start; block counts to 0
+const uint kFlowBlockStarts = 2u;  // per block of runs: their starts; run counts to 0
+const uint kFlowStarts = 3u;       // per run of buckets: their starts; counts to 0
+const uint kFlowScatter = 4u;      // per flow slot: into its bucket (in any order)
+const uint kFlowOrder = 5u;        // per bucket: its lowest slots first, in order; count to 0
+const uint kFlowDensity = 6u;      // per flow slot: the first neighbour pass
+const uint kFlowForces = 7u;       // per flow slot: the second neighbour pass and the step
+const uint kFlowStore = 8u;        // per flow slot: the results over the state
+const uint kFlowPasses = 9u;
 // Buckets per run: the scan sums runs, then each run's buckets get their starts in parallel
 // (the buckets are a power of two, 1024 or more).
 const uint kFlowRun = 32u;
+// Runs per block: the scan's one workgroup sums blocks of 32 runs (1,024 buckets), whose
+// runs then get their starts at once, then the runs' buckets theirs.
+const uint kFlowBlock = 32u;
+// The most slots of one bucket that the flow's neighbour loops read: its lowest flow
+// indices, in order (docs/model.md "Neighbours"). A settled flow holds about 8 to a cell, so
+// the cap binds only where particles pile up (a point burst, clamped far positions), and
+// keeps a step's work linear in the particles there.
+const uint kFlowBucketCap = 64u;
 const uint kFlowUnsorted = 0xffffffffu;  // FlowScratch.cell.w of a slot not in the grid
 // Entries of the viscosity table, solidus to temperature.
 const uint kViscosityEntries = 64u;

@@ -66,6 +66,7 @@ Model model(uint k) {
 // One step of an alive particle (after any birth).
 void step(const World g, const Model e, inout precise vec3 x, inout precise vec3 v,
           inout precise float age) {
+  const precise vec3 x0 = x;
   precise float h = g.h;
   precise float hm = e.hm;
   precise float w = e.w;
@@ -89,9 +90,14 @@ void step(const World g, const Model e, inout precise vec3 x, inout precise vec3
   }
   flush(v);
   age = age + h;
-  ground(g.restitution, g.friction, x, v);
-  [[unroll]] for (uint i = 0u; i < kColliders; ++i)  // each slot's kind then a constant
-    collide(scene.colliders[i], (kColliderKinds >> (2u * i)) & 3u, x, v);
+  if (nonFinite(x, v)) {  // dies, with x = v = 0 (docs/model.md "Non-finite values")
+    x = vec3(0.0);
+    v = vec3(0.0);
+    age = -1.0;
+    return;
+  }
+  bool touched;
+  if (contactFrom(x0, g.restitution, g.friction, -1.0, x, v, touched)) age = -1.0;
   if (kLifetimes != 0u && e.lifetime > 0.0 && age >= e.lifetime) age = -1.0;
 }
 

@@ -170,6 +170,26 @@ TEST(Bench, FlowRowsHaveTheirPairsAndCeiling) {
   }
 }
 
+TEST(Bench, APointBurstReadsAtMostTheBucketCapOfNeighbours) {
+  // --point: 2,000 flow particles at one point share one bucket; each reads its first 64
+  // (docs/model.md "Neighbours, bounded"): about 128 pairs a step, not 4,000.
+  const Result r = lava("bench --flow --point --sizes 2000 --steps 2 --backends cpu");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("a point burst"), std::string::npos) << r.out;
+  const size_t at = r.out.find("\ncpu ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  std::istringstream row(r.out.substr(at + 1));
+  std::string name;
+  double particles = 0, steps = 0, pairs = 0;
+  row >> name >> particles >> steps >> pairs;
+  EXPECT_EQ(particles, 2000.0) << r.out;
+  // 63 others for the 64 read, 64 for the rest, in each of the two passes.
+  EXPECT_NEAR(pairs, 2.0 * (64.0 * 63.0 + 1936.0 * 64.0) / 2000.0, 0.06) << r.out;
+  const Result lone = lava("bench --point");
+  EXPECT_EQ(lone.status, 2);
+  EXPECT_NE(lone.err.find("--point: needs --flow"), std::string::npos) << lone.err;
+}
+
 TEST(Render, StartsFromACheckpoint) {
   // The flow's module scene simulated on the CPU, checkpointed, then drawn from there: the
   // frame of the resumed state with no warm-up equals the frame of the straight run's.

@@ -9,6 +9,7 @@
 #include "lava/simulation.h"
 #include "sim/constants.h"
 #include "sim/reference.h"
+#include "test_scenes.h"
 
 namespace lava {
 namespace {
@@ -229,6 +230,61 @@ TEST(Colliders, NothingEndsAStepInsideTheCone) {
     onSlope += y > 0.05 && y < 1.15 && r < ry + 0.01;
   }
   EXPECT_GT(onSlope, 50u) << "lava must lie on the slope";
+}
+
+// Particles on a box's top, within 3 cm above it.
+size_t onTheBoxes(const Scene& s, const State& state) {
+  size_t n = 0;
+  for (const Particle& p : state.particles)
+    for (const Collider& c : s.colliders)
+      n += p.age >= 0.0f && std::fabs(p.px - c.position.x) < c.size.x &&
+           std::fabs(p.pz - c.position.z) < c.size.z && p.py >= c.position.y + c.size.y &&
+           p.py < c.position.y + c.size.y + 0.03f;
+  return n;
+}
+
+TEST(Colliders, NothingEndsAStepInsideABoxStandingOnTheGroundSunkOrInACorner) {
+  // Flow and sparks, every step (docs/model.md "Contact").
+  const Scene s = test::boxesOnTheGround();
+  CpuSimulation sim(s, 2);
+  for (int step = 1; step <= 1200; ++step) {
+    sim.advance(1);
+    ASSERT_EQ(test::insideTheGroundOrTheBoxes(s, sim.state()), "") << "after step " << step;
+  }
+  EXPECT_GT(onTheBoxes(s, sim.state()), 40u) << "flow and sparks must lie on the boxes";
+}
+
+TEST(Colliders, AParticleThatRoundsOfContactCannotFreeTakesBackItsStartOrDies) {
+  // Two tall boxes overlapping from x = -0.1 to 0.1: in the overlap, each one's nearest face
+  // lies inside the other, and the rounds of contact ping-pong between them.
+  Scene s = oneParticle(Integrator::ExplicitEuler);
+  s.gravity = 0.0f;
+  s.dt = 0.01;
+  Collider a;
+  a.type = ColliderType::Box;
+  a.position = {-0.4f, 2.0f, 0.0f};
+  a.size = {0.5f, 1.5f, 1.5f};
+  Collider b = a;
+  b.position.x = 0.4f;
+  s.colliders = {a, b};
+  // Thrown from x = 1 (outside) into the overlap in one step: back to x = 1, at rest.
+  Particle p{1.0f, 2.0f, 0.0f, 0.5f, -95.0f, 0.0f, 0.0f, 1.0f};
+  detail::stepParticle(s, 0, p);
+  EXPECT_EQ(p.px, 1.0f);
+  EXPECT_EQ(p.vx, 0.0f);
+  EXPECT_FLOAT_EQ(p.age, 0.51f);
+  // Starting in the overlap (born there, or a box moved over it): it dies, x = v = 0.
+  p = Particle{0.05f, 2.0f, 0.0f, 0.5f, 0.0f, 0.0f, 0.0f, 1.0f};
+  detail::stepParticle(s, 0, p);
+  EXPECT_EQ(p.age, -1.0f);
+  EXPECT_EQ(p.px, 0.0f);
+  EXPECT_EQ(p.py, 0.0f);
+  // One box alone frees it: out through its nearer face, as docs/model.md's box rule says.
+  s.colliders = {b};
+  p = Particle{0.05f, 2.0f, 0.0f, 0.5f, 0.0f, 0.0f, 0.0f, 1.0f};
+  detail::stepParticle(s, 0, p);
+  EXPECT_EQ(p.px, 0.4f - 0.5f);
+  EXPECT_GE(p.age, 0.0f);
 }
 
 TEST(Colliders, PlaneBouncesWithItsOwnRestitution) {

@@ -502,6 +502,26 @@ TEST_P(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
   }
   EXPECT_GT(lavaCalls.submits, 0);
   EXPECT_GT(lavaCalls.fenceWaits, 0);
+
+  // Each submission of advance() carries at most maxParticleStepsPerSubmission particle-
+  // steps: 10 steps of the scene's slots each, so 95 steps take 10 submissions; by default
+  // (2^26) one. The same bytes either way.
+  {
+    Device device(handles);
+    GpuSimulationOptions bounded;
+    bounded.maxParticleStepsPerSubmission = 10 * scene.particles() + 7;
+    GpuSimulation split(device, scene, bounded), whole(device, scene);
+    int before = lavaCalls.submits;
+    split.advance(95);
+    EXPECT_EQ(lavaCalls.submits - before, 10);
+    before = lavaCalls.submits;
+    whole.advance(95);
+    EXPECT_EQ(lavaCalls.submits - before, 1);
+    const Comparison same = compare(split.state().particles, whole.state().particles);
+    EXPECT_EQ(same.equal, same.particles);
+    bounded.maxParticleStepsPerSubmission = 0;
+    EXPECT_THROW(GpuSimulation(device, scene, bounded), InvalidArgument);
+  }
   for (const std::string& m : host.messages) ADD_FAILURE() << "validation: " << m;
 }
 

@@ -4,11 +4,17 @@
 // scene "flow" runs in the Modules tests too.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <limits>
+#include <vector>
 
-#include "lava/lava.h"
+#include "flow/gpu_flow.h"
 #include "flow_pool.h"
+#include "lava/lava.h"
 #include "lava/validation.h"
+#include "scene/keys.h"
 #include "test_scenes.h"
 #include "vulkan/device_context.h"
 #include "vulkan_test.h"
@@ -156,6 +162,104 @@ TEST_F(GpuFlow, NoParticleEndsInsideACollider) {
       [&](const Scene& s) { return std::make_unique<GpuSimulation>(device(), s); }, kPool);
 }
 
+TEST_F(GpuFlow, BoxesStandingSunkOrInACornerHoldFlowAndSparksBitForBit) {
+  // docs/model.md "Contact" on lavapipe against the CPU reference and its SIMD twin: no
+  // particle inside the ground or a box every 10 steps, the same bits every 300.
+  const Scene s = test::boxesOnTheGround();
+  GpuSimulation gpu(device(), s);
+  CpuSimulation cpu(s, 2), simd(s, 2, CpuKernel::Simd);
+  for (int step = 10; step <= 1200; step += 10) {
+    gpu.advance(10);
+    const State g = gpu.state();
+    ASSERT_EQ(test::insideTheGroundOrTheBoxes(s, g), "") << "after step " << step;
+    if (step % 300 != 0) continue;
+    cpu.advance(300);
+    simd.advance(300);
+    expectSameState(s, g, cpu.state());
+    expectSameState(s, simd.state(), cpu.state());
+  }
+}
+
+TEST_F(GpuFlow, APointBurstPastTheBucketCapIsBitIdenticalToTheCpu) {
+  // 3,000 flow particles born at one point: one bucket holds them all, far past the 64 the
+  // neighbour loops read (docs/model.md "Neighbours, bounded"), so the GPU's order pass
+  // keeps the 64 lowest from the scatter's order and the rest read themselves after them.
+  Scene s;
+  s.flow.emplace();
+  Emitter& e = s.emitters[0];
+  e.flow = true;
+  e.particles = 3000;
+  e.rate = 0.0;
+  e.burst = 3000;
+  e.shape = Shape::Point;
+  e.position = {0.0f, 0.5f, 0.0f};
+  e.velocity = {0.0f, 0.0f, 0.0f};
+  e.spread = {0.5f, 0.5f, 0.5f};
+  e.mass = detail::defaultFlowMass(*s.flow);
+  GpuSimulation gpu(device(), s);
+  CpuSimulation cpu(s, 2);
+  for (uint64_t steps : {1u, 1u, 8u, 40u}) {
+    gpu.advance(steps);
+    cpu.advance(steps);
+    expectSameState(s, gpu.state(), cpu.state());
+  }
+}
+
+TEST_F(GpuFlow, NonFiniteValuesDieTheSameOnBothBackends) {
+  // A host sets NaN and infinite positions and velocities into flow particles and sparks:
+  // after a step each of them is dead with x = v = 0 (docs/model.md "Non-finite values"),
+  // the others untouched by them, and the GPU holds the CPU's bits.
+  const Scene s = test::boxesOnTheGround();
+  CpuSimulation cpu(s, 2);
+  cpu.advance(150);
+  State poked = cpu.state();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  const std::vector<std::pair<size_t, int>> pokes = {{3, 0},   {40, 1},  {77, 2},  {150, 3},
+                                                     {600, 0}, {650, 1}, {700, 2}, {800, 3}};
+  for (const auto& [slot, how] : pokes) {
+    Particle& p = poked.particles[slot];
+    ASSERT_GE(p.age, 0.0f) << slot;
+    if (how == 0) p.px = nan;
+    if (how == 1) p.vy = -nan;
+    if (how == 2) p.pz = inf;
+    if (how == 3) p.vx = -inf;
+  }
+  GpuSimulation gpu(device(), s);
+  gpu.setState(poked);
+  cpu.setState(poked);
+  gpu.advance(1);
+  cpu.advance(1);
+  const State g = gpu.state(), c = cpu.state();
+  expectSameState(s, g, c);
+  EXPECT_EQ(
+      std::memcmp(g.particles.data(), c.particles.data(), g.particles.size() * sizeof(Particle)),
+      0);
+  size_t alive = 0;
+  for (size_t i = 0; i < g.particles.size(); ++i) {
+    const Particle& p = g.particles[i];
+    const bool wasPoked =
+        std::any_of(pokes.begin(), pokes.end(), [&](const auto& k) { return k.first == i; });
+    if (wasPoked) {
+      EXPECT_EQ(p.age, -1.0f) << i;
+      EXPECT_EQ(std::vector<float>({p.px, p.py, p.pz, p.vx, p.vy, p.vz}),
+                std::vector<float>(6, 0.0f))
+          << i;
+      if (i < 600) {
+        EXPECT_EQ(g.temperature[i], 0.0f) << i;
+      }
+      continue;
+    }
+    for (float f : {p.px, p.py, p.pz, p.vx, p.vy, p.vz}) ASSERT_TRUE(std::isfinite(f)) << i;
+    alive += p.age >= 0.0f;
+  }
+  EXPECT_GT(alive, 500u);
+  // The step goes on as before: 150 more steps agree too.
+  gpu.advance(150);
+  cpu.advance(150);
+  expectSameState(s, gpu.state(), cpu.state());
+}
+
 TEST_F(GpuFlow, FlowSlotsAcrossChunksAndLiveEditsStayBitIdentical) {
   Scene s = test::moduleScene("flow");
   GpuSimulationOptions options;
@@ -182,12 +286,12 @@ TEST_F(GpuFlow, FlowSlotsAcrossChunksAndLiveEditsStayBitIdentical) {
 }
 
 TEST_F(GpuFlow, AGridOfManyRunsIsBitIdenticalToTheCpu) {
-  // 5,000 slots: 16,384 buckets in 512 runs, 8 to each of the scan's invocations; 3,000
-  // particles born in a ball, each with a few dozen neighbours.
+  // 70,000 slots: 262,144 buckets in 8,192 runs in 256 blocks, 4 to each of the scan's
+  // invocations; 3,000 particles born in a ball, each with a few dozen neighbours.
   Scene s;
   s.flow.emplace();
   Emitter& e = s.emitters[0];
-  e.particles = 5000;
+  e.particles = 70000;
   e.rate = 200000.0;
   e.shape = Shape::Sphere;
   e.radius = 0.25f;
@@ -228,6 +332,36 @@ TEST_F(GpuFlow, SparksBesideAFlowAreUntouched) {
 namespace lava {
 namespace {
 
+TEST_F(GpuFlow, SlotCountsAreCheckedBeforeTheyAreNarrowed) {
+  // Three flow emitters of 2^31 - 1 slots each: 6,442,450,941 slots, which 32 bits would
+  // have read as 2,147,483,645. The flow is refused by its true size before any buffer.
+  Scene s;
+  s.flow.emplace();
+  s.emitters.resize(3);
+  for (Emitter& e : s.emitters) {
+    e.particles = 0x7fffffffu;
+    e.flow = true;
+    e.mass = detail::defaultFlowMass(*s.flow);
+  }
+  try {
+    detail::GpuFlow flow(device().context(), s);
+    ADD_FAILURE() << "accepted";
+  } catch (const InvalidArgument& error) {
+    EXPECT_EQ(error.parameter(), "particles");
+    EXPECT_NE(std::string(error.what()).find("reach slot 6442450941"), std::string::npos)
+        << error.what();
+  }
+  s.emitters.resize(2);  // 4,294,967,294 slots: within 32 bits, past any binding
+  try {
+    detail::GpuFlow flow(device().context(), s);
+    ADD_FAILURE() << "accepted";
+  } catch (const InvalidArgument& error) {
+    EXPECT_NE(std::string(error.what()).find("the flow's 4294967294 slots need a "),
+              std::string::npos)
+        << error.what();
+  }
+}
+
 TEST_F(GpuFlow, AFlowBeyondOneBindingIsRefusedUpFront) {
   // The flow's per-slot results are one binding (48 bytes a slot): a flow past the device's
   // binding range is refused when the simulation is made, naming the particles and the limit.
@@ -244,8 +378,8 @@ TEST_F(GpuFlow, AFlowBeyondOneBindingIsRefusedUpFront) {
     ADD_FAILURE() << e.particles << " flow slots were accepted";
   } catch (const InvalidArgument& error) {
     EXPECT_EQ(error.parameter(), "particles");
-    EXPECT_NE(std::string(error.what()).find("the flow's " + std::to_string(e.particles) +
-                                             " slots need a "),
+    EXPECT_NE(std::string(error.what())
+                  .find("the flow's " + std::to_string(e.particles) + " slots need a "),
               std::string::npos)
         << error.what();
   }

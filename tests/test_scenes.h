@@ -3,13 +3,16 @@
 #pragma once
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "lava/scene.h"
+#include "lava/state.h"
 #include "module_scenes.h"
+#include "scene/keys.h"
 
 namespace lava::test {
 
@@ -23,6 +26,78 @@ inline Scene coneScene() {
   cone.height = 1.4f;
   scene.colliders = {cone};
   return scene;
+}
+
+// Boxes as walls, steps and crates stand (docs/model.md "Contact"): one standing on the
+// ground, one sunk 10 cm into it, and two whose ends overlap in a corner; a flow poured onto
+// them and sparks raining on all four. 600 flow particles and 2,000 sparks.
+inline Scene boxesOnTheGround() {
+  Scene s;
+  s.flow.emplace();
+  s.flow->coolingAir = 0.0f;
+  s.flow->coolingGround = 0.0f;
+  s.friction = 0.3f;
+  auto box = [&](Vec3 centre, Vec3 half) {
+    Collider c;
+    c.type = ColliderType::Box;
+    c.position = centre;
+    c.size = half;
+    c.friction = 0.3f;
+    s.colliders.push_back(c);
+  };
+  box({0.45f, 0.12f, -0.3f}, {0.12f, 0.12f, 0.3f});   // standing
+  box({-0.45f, 0.02f, -0.3f}, {0.12f, 0.12f, 0.3f});  // sunk
+  box({0.0f, 0.1f, 0.45f}, {0.5f, 0.1f, 0.06f});      // the corner's two ends overlap
+  box({0.45f, 0.1f, 0.25f}, {0.06f, 0.1f, 0.25f});
+  Emitter& flow = s.emitters[0];
+  flow.flow = true;
+  flow.particles = 600;
+  flow.rate = 3000.0;
+  flow.shape = Shape::Disc;
+  flow.radius = 0.1f;
+  flow.position = {0.3f, 0.5f, 0.2f};
+  flow.velocity = {0.6f, -1.0f, 0.4f};
+  flow.spread = {0.3f, 0.1f, 0.3f};
+  flow.mass = detail::defaultFlowMass(*s.flow);
+  Emitter sparks;
+  sparks.particles = 2000;
+  sparks.rate = 4000.0;
+  sparks.shape = Shape::Box;
+  sparks.size = {0.6f, 0.05f, 0.6f};
+  sparks.position = {0.0f, 0.9f, 0.0f};
+  sparks.velocity = {0.0f, -1.0f, 0.0f};
+  sparks.spread = {0.8f, 0.5f, 0.8f};
+  s.emitters.push_back(sparks);
+  return s;
+}
+
+// Whether p lies inside the ground or one of s's boxes, d = x - c in float32 as the model
+// has it: a box standing on the ground (its bottom at or below it) holds from the ground up.
+inline bool insideTheGroundOrABox(const Scene& s, const Particle& p) {
+  if (p.py < 0.0f) return true;
+  for (const Collider& c : s.colliders) {
+    if (c.type != ColliderType::Box) continue;
+    const float dx = p.px - c.position.x, dy = p.py - c.position.y, dz = p.pz - c.position.z;
+    const bool standing = double(c.position.y) - c.size.y <= 0.0;
+    if (std::fabs(dx) < c.size.x && std::fabs(dz) < c.size.z && dy < c.size.y &&
+        (standing || -dy < c.size.y))
+      return true;
+  }
+  return false;
+}
+
+// The alive particles of `state` inside the ground or a box, with the first one's place.
+inline std::string insideTheGroundOrTheBoxes(const Scene& s, const State& state) {
+  size_t inside = 0;
+  std::string first;
+  for (size_t i = 0; i < state.particles.size(); ++i) {
+    const Particle& p = state.particles[i];
+    if (p.age < 0.0f || !insideTheGroundOrABox(s, p)) continue;
+    if (inside++ == 0)
+      first = " (slot " + std::to_string(i) + " at " + std::to_string(p.px) + ", " +
+              std::to_string(p.py) + ", " + std::to_string(p.pz) + ")";
+  }
+  return inside == 0 ? "" : std::to_string(inside) + " inside" + first;
 }
 
 // The module scenes (scenes/modules/*.toml: each module of docs/model.md on its own and all
@@ -58,7 +133,9 @@ inline Scene randomModuleScene(std::mt19937& rng) {
     return std::uniform_real_distribution<float>(lo, hi)(rng);
   };
   auto pick = [&](uint32_t n) { return static_cast<uint32_t>(rng() % n); };
-  auto vec = [&](float lo, float hi) { return Vec3{uniform(lo, hi), uniform(lo, hi), uniform(lo, hi)}; };
+  auto vec = [&](float lo, float hi) {
+    return Vec3{uniform(lo, hi), uniform(lo, hi), uniform(lo, hi)};
+  };
   Scene s;
   s.seed = static_cast<uint32_t>(rng());
   s.dt = uniform(0.0005f, 0.004f);

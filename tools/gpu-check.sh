@@ -11,6 +11,7 @@
 #   --dry          the same steps at small sizes (CI runs it on lavapipe)
 #   OUT            folder for the results (created): env.txt, info.txt, suite.xml,
 #                  suite.csv, validate-*.txt, bench*.json/.txt (bench-flow: the flow's rows),
+#                  submission.txt (the longest submission of advance() at each flow size),
 #                  render-*/ (render-flow: the eruption), demo.txt, summary.txt
 #
 # lava needs, beside glibc: libvulkan1, libglfw3, libx11-6, libxext6, libhwy1 (cpu-simd)
@@ -102,6 +103,16 @@ step bench-cpu "$lava" bench --sizes "${sizes%%,*}" --steps 200 --backends gpu,c
 # and the eruption drawn after it has flowed and crusted.
 step bench-flow "$lava" bench --flow --sizes "$flow_sizes" --steps 100 --backends gpu \
   --json "$out/bench-flow.json"
+# The longest submission a blocking helper makes (2^26 particle-steps, GpuSimulationOptions)
+# at each size, from the flow's rate: what a desktop driver's watchdog would see.
+step submission awk -F'[:,]' '/"particles"/ {
+    for (i = 1; i < NF; ++i) {
+      if ($i ~ /"particles"/) n = $(i + 1) + 0
+      if ($i ~ /"particle_steps_per_second"/) r = $(i + 1) + 0
+    }
+    steps = int(67108864 / n); if (steps < 1) steps = 1; if (steps > 4096) steps = 4096
+    printf "flow %d particles: %d steps a submission, %.1f ms\n", n, steps, 1000 * steps * n / r
+  }' "$out/bench-flow.json"
 step render-flow "$lava" render --frames 2 --scene "$here/scenes/eruption.toml" \
   --warmup "$flow_warmup" --out "$out/render-flow"
 step render-lines "$lava" render --frames 2 --renderer lines --out "$out/render-lines"

@@ -91,6 +91,10 @@ struct GpuSimulationOptions {
   // Particles one chunk (binding, texel view, dispatch) holds: 0 for as many as the device
   // allows (Device::particlesPerChunk()), else at most this many, in whole workgroups of 64.
   uint32_t maxParticlesPerChunk = 0;
+  // The blocking helpers' bound on one submission: at most this many particle-steps (the
+  // scene's slots x steps; one step at least), 2^26 by default, so that no submission runs
+  // near the watchdogs of desktop drivers (2 s and more). At least 1.
+  uint64_t maxParticleStepsPerSubmission = uint64_t{1} << 26;
 };
 
 // Particles [first, first + count) of the state, in `buffer` from offset 0, 32 bytes each
@@ -152,6 +156,8 @@ class LAVA_API GpuSimulation final : public Simulation {
 
   // Blocking helpers. They submit to the device's queue and wait for that submission;
   // call them when no command buffer with this simulation's work is pending submission.
+  // advance() splits its steps into submissions of at most
+  // GpuSimulationOptions::maxParticleStepsPerSubmission particle-steps each.
   // Nothing else in the class submits or waits: the constructor and the destructor only
   // create and destroy (destroy it once the host's last submission that used it has
   // finished).

@@ -84,6 +84,10 @@ class BenchCommand final : public Command {
                      "particles at rest [4096,16384], its particle-steps/s, neighbour pairs/s "
                      "and their fraction of the density sum alone over lists made beforehand",
                      flow_);
+    options_.addFlag("point",
+                     "with --flow: every particle at one point at rest instead, a point "
+                     "burst's first steps (the grid's worst case: one bucket)",
+                     point_);
     options_.add("json", "also write the results to FILE.json",
                  [this](const std::string& src, const std::string& t) {
                    checkOutputPath(src, t, ".json");
@@ -93,6 +97,7 @@ class BenchCommand final : public Command {
 
   int run() override {
     options_.resolve();
+    if (point_ && !flow_) throw UsageError("--point: needs --flow (the flow's point burst)");
     if (options_.given("particles"))
       throw UsageError("--particles: bench sets the counts with --sizes (e.g. --sizes " +
                              options_.text("particles") + ")");
@@ -146,7 +151,7 @@ class BenchCommand final : public Command {
  private:
   // A slab of n flow particles at rest on the ground, four layers deep on the rest lattice,
   // hot and never cooling: every particle with its full set of neighbours (or a surface's).
-  static std::pair<Scene, State> flowSlab(const Scene& base, uint32_t n) {
+  static std::pair<Scene, State> flowSlab(const Scene& base, uint32_t n, bool point) {
     Scene scene = base;
     if (!scene.flow) scene.flow.emplace();
     scene.flow->coolingAir = 0.0f;
@@ -163,7 +168,11 @@ class BenchCommand final : public Command {
     checkScene(scene);
     State state = initialState(scene);
     const uint32_t side = uint32_t(std::ceil(std::sqrt(double(n) / 4.0)));
-    for (uint32_t i = 0; i < n; ++i) {
+    for (uint32_t i = 0; i < n && point; ++i) {  // all at 1 m above the ground
+      state.particles[i] = Particle{0.0f, 1.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, e.mass};
+      state.temperature[i] = scene.flow->temperature;
+    }
+    for (uint32_t i = 0; i < n && !point; ++i) {
       const float x = (float(i % side) - 0.5f * float(side)) * s;
       const float z = (float(i / side % side) - 0.5f * float(side)) * s;
       const float y = (0.5f + float(i / (side * side))) * s;
@@ -176,7 +185,8 @@ class BenchCommand final : public Command {
   int runFlow(Device& context, const std::string& device, unsigned cores) {
     const std::vector<uint32_t> sizes =
         options_.given("sizes") ? sizes_ : std::vector<uint32_t>{4096, 16384};
-    std::printf("bench --flow: %s, %llu steps, %u CPU threads for cpu-mt\n", device.c_str(),
+    std::printf("bench --flow: %s, %s, %llu steps, %u CPU threads for cpu-mt\n",
+                point_ ? "a point burst" : "a slab at rest", device.c_str(),
                 static_cast<unsigned long long>(steps_), cores);
     std::printf("%-8s %10s %13s %9s %14s %14s %9s\n", "backend", "particles", "particle-st/s",
                 "pairs/st", "pairs/s", "ceiling pr/s", "x ceiling");
@@ -184,7 +194,7 @@ class BenchCommand final : public Command {
     json << "{\n  \"device\": \"" << device << "\",\n  \"flow\": [\n";
     bool first = true;
     for (uint32_t n : sizes) {
-      const auto [scene, start] = flowSlab(scene_, n);
+      const auto [scene, start] = flowSlab(scene_, n, point_);
       const FlowNeighbours neighbours = flowNeighbours(scene, start);
       // Both neighbour passes visit every pair, per step.
       const double pairs = 2.0 * double(neighbours.lists.size());
@@ -364,6 +374,7 @@ class BenchCommand final : public Command {
   std::vector<std::string> backends_;
   std::string json_;
   bool flow_ = false;
+  bool point_ = false;  // --point
   std::string simdTarget_;  // --simd-target ("": the best)
   std::map<std::string, double> computeCeilings_;  // per row kind
   Progress* progress_ = nullptr;                   // rows done, while run() runs

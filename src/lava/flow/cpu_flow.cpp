@@ -176,13 +176,13 @@ Cell cellOf(float x, float y, float z, float invRadius) {
 }
 
 uint32_t bucketOf(const Cell& c, uint32_t buckets) {
-  return ((uint32_t(c.x) * 73856093u) ^ (uint32_t(c.y) * 19349663u) ^
-          (uint32_t(c.z) * 83492791u)) &
+  return ((uint32_t(c.x) * 73856093u) ^ (uint32_t(c.y) * 19349663u) ^ (uint32_t(c.z) * 83492791u)) &
          (buckets - 1u);
 }
 
 uint32_t flowBuckets(uint64_t slots) {
-  static_assert(1024 % gpu::kFlowRun == 0, "flow.comp's scan takes whole runs");
+  static_assert(1024 % (gpu::kFlowRun * gpu::kFlowBlock) == 0,
+                "flow.comp's scan takes whole blocks of whole runs");
   uint32_t buckets = 1024;
   while (buckets < 2 * slots && buckets < (1u << 30)) buckets *= 2;
   return buckets;
@@ -245,7 +245,8 @@ void FlowStepper::sort(const State& state) {
 }
 
 // Calls visit(j, d, q, t) for every flow particle j within the radius of particle i (i
-// itself included): the cells z, then y, then x from -1 to +1, each bucket's slots in order.
+// itself included): the cells z, then y, then x from -1 to +1, each bucket's first
+// kFlowBucketCap slots in order, and i after them when its own bucket holds it beyond them.
 template <class Visit>
 void FlowStepper::neighbours(const State& state, size_t i, const Visit& visit) const {
   const Particle& p = state.particles[i];
@@ -255,8 +256,13 @@ void FlowStepper::neighbours(const State& state, size_t i, const Visit& visit) c
       for (int32_t dx = -1; dx <= 1; ++dx) {
         const Cell n{c.x + dx, c.y + dy, c.z + dz};
         const uint32_t b = bucketOf(n, buckets_);
-        for (uint32_t e = start_[b]; e < start_[b + 1]; ++e) {
-          const uint32_t j = sorted_[e];
+        const uint32_t begin = start_[b], count = start_[b + 1] - begin;
+        uint32_t reads = std::min(count, gpu::kFlowBucketCap);
+        if (count > gpu::kFlowBucketCap && dx == 0 && dy == 0 && dz == 0 &&
+            i > sorted_[begin + gpu::kFlowBucketCap - 1])
+          ++reads;
+        for (uint32_t r = 0; r < reads; ++r) {
+          const uint32_t j = r < gpu::kFlowBucketCap ? sorted_[begin + r] : uint32_t(i);
           if (!(cells_[j] == n)) continue;
           const Particle& o = state.particles[j];
           const V d{p.px - o.px, p.py - o.py, p.pz - o.pz};
@@ -302,6 +308,17 @@ void FlowStepper::births(State& state, const std::vector<std::vector<Births>>& s
 }
 
 void FlowStepper::step(State& state) {
+  // A flow particle holding a NaN or infinity dies before any neighbour reads it
+  // (docs/model.md "Non-finite values").
+  for (size_t i = 0; i < state.particles.size(); ++i) {
+    Particle& p = state.particles[i];
+    if (emitterOfSlot_[i] == kNotFlow || p.age < 0.0f ||
+        !Model::nonFinite(V{p.px, p.py, p.pz}, V{p.vx, p.vy, p.vz}))
+      continue;
+    p = Particle{0.0f, 0.0f, 0.0f, -1.0f, 0.0f, 0.0f, 0.0f, p.mass};
+    state.temperature[i] = 0.0f;
+    state.crust[i] = 0;
+  }
   sort(state);
   const Scene& s = reference_.scene();
   const float h = s.h();
@@ -360,12 +377,13 @@ void FlowStepper::step(State& state) {
       a = a + V{tiny(push * n.x), tiny(push * n.y), tiny(push * n.z)};
       const float rate = ((w.laplacian * (viscosity_[i] + viscosity_[j])) * t2) *
                          std::min(viscous_[i], viscous_[j]);
-      dv = dv + V{tiny(rate * (o.vx - p.vx)), tiny(rate * (o.vy - p.vy)),
-                  tiny(rate * (o.vz - p.vz))};
+      dv = dv +
+           V{tiny(rate * (o.vx - p.vx)), tiny(rate * (o.vy - p.vy)), tiny(rate * (o.vz - p.vz))};
     });
 
-    V x{p.px, p.py, p.pz}, v{p.vx, p.vy, p.vz};
-    bool touched = false, becomesCrust = isCrust;
+    const V x0{p.px, p.py, p.pz};
+    V x = x0, v{p.vx, p.vy, p.vz};
+    bool touched = false, becomesCrust = isCrust, dies = false;
     if (!isCrust) {
       const EmitterConstants& ek = reference_.constants(emitter);
       if (liquid) {  // viscosity, then a semi-implicit Euler step with pressure and the forces
@@ -379,13 +397,13 @@ void FlowStepper::step(State& state) {
         v = Model::flushed(v + ek.hm * Model::force<Modules::Any>(s, x, v, ek.w));
         x = x + h * v;
       }
-      if (!becomesCrust) {
-        const V moved = x;
-        Model::ground(contact_, x, v);
-        for (size_t c = 0; c < contact_.colliders.size(); ++c)
-          Model::collide(contact_.colliders[c], reference_.planeNormal(c), reference_.cone(c), x,
-                         v);
-        touched = moved.x != x.x || moved.y != x.y || moved.z != x.z;
+      if (!becomesCrust && Model::nonFinite(x, v)) {  // docs/model.md "Non-finite values"
+        x = v = V{0.0f, 0.0f, 0.0f};
+        dies = true;
+      } else if (!becomesCrust) {
+        float lost = 0.0f;
+        touched = Model::contact(contact_, reference_, x0, x, v, lost, true);
+        dies = lost < 0.0f;
         becomesCrust = !liquid && touched;
       }
       if (becomesCrust) v = V{0.0f, 0.0f, 0.0f};
@@ -394,7 +412,7 @@ void FlowStepper::step(State& state) {
     float t1 = (temperature[i] + dT) - cool * (temperature[i] - k_.ambient);
     float age = p.age + h;
     const float lifetime = s.emitters[emitter].lifetime;
-    if (lifetime > 0.0f && age >= lifetime) {  // dies: an unborn slot's temperature and flag
+    if (dies || (lifetime > 0.0f && age >= lifetime)) {  // an unborn slot's temperature and flag
       age = -1.0f;
       t1 = 0.0f;
       becomesCrust = false;

@@ -15,15 +15,24 @@ namespace {
 constexpr VkDeviceSize kParticleBytes = sizeof(Particle);
 
 // flow.comp's grid: each bucket's count and start, the sorted slots, each run's count and
-// start (shared.h, kFlowGridBinding).
+// start, each block's count and start (shared.h, kFlowGridBinding).
 VkDeviceSize gridBytes(uint64_t buckets, uint64_t slots) {
-  return (2 * buckets + 1 + slots + 2 * (buckets / gpu::kFlowRun)) * sizeof(uint32_t);
+  const uint64_t runs = buckets / gpu::kFlowRun;
+  return (2 * buckets + 1 + slots + 2 * runs + 2 * (runs / gpu::kFlowBlock)) * sizeof(uint32_t);
 }
 
-// The scene's parameters, once its flow is known to fit the device.
+// The scene's parameters, once its flow is known to fit the device: the sizes are checked in
+// 64 bits before flowParams narrows them to the shader's 32.
 gpu::FlowParams checkedParams(const DeviceContext& c, const Scene& scene) {
-  const gpu::FlowParams params = flowParams(scene);
-  const uint64_t slots = params.sizes.y, buckets = params.sizes.x;
+  uint64_t slots = 0;
+  for (const FlowRange& r : flowRanges(scene)) {
+    slots += r.count;
+    if (r.firstSlot + r.count > UINT32_MAX)
+      throw InvalidArgument("particles", "the flow's slots reach slot " +
+                                             std::to_string(r.firstSlot + r.count) +
+                                             ", past the 2^32 its shader addresses");
+  }
+  const uint64_t buckets = flowBuckets(slots);
   const uint64_t binding = std::max(slots * sizeof(gpu::FlowNext), gridBytes(buckets, slots));
   const uint64_t groups = std::max(slots, buckets) / gpu::kWorkgroupSize + 1;
   const uint64_t range = std::min<uint64_t>(c.limits.maxStorageBufferRange, c.maxAllocation);
@@ -34,7 +43,7 @@ gpu::FlowParams checkedParams(const DeviceContext& c, const Scene& scene) {
                                            c.properties.deviceName + "' allows " +
                                            std::to_string(range >> 20) + " MiB and " +
                                            std::to_string(c.limits.maxComputeWorkGroupCount[0]));
-  return params;
+  return flowParams(scene);
 }
 
 constexpr VkBufferUsageFlags kCopied = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
@@ -130,6 +139,8 @@ void GpuFlow::record(VkCommandBuffer commands, const Scene& scene, const SlotBin
   uint32_t groups[gpu::kFlowPasses];  // workgroups per pass
   std::fill_n(groups, gpu::kFlowPasses, perSlot);
   groups[gpu::kFlowScan] = 1;
+  groups[gpu::kFlowBlockStarts] =
+      groupCount(buckets_ / (gpu::kFlowRun * gpu::kFlowBlock), gpu::kWorkgroupSize);
   groups[gpu::kFlowStarts] = groupCount(buckets_ / gpu::kFlowRun, gpu::kWorkgroupSize);
   groups[gpu::kFlowOrder] = groupCount(buckets_, gpu::kWorkgroupSize);
   gpu::FlowStepParams params{};

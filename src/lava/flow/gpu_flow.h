@@ -36,7 +36,7 @@ class GpuFlow {
   // Records: every flow slot unborn (copied from the first `bytes` of `unborn`, a block of
   // unborn particles), 0 K, no crust, the grid's counts 0.
   void recordInit(VkCommandBuffer commands, VkBuffer unborn, VkDeviceSize bytes) const;
-  // Records `steps` steps (the slot's schedule entries 0 to steps - 1), eight passes each
+  // Records `steps` steps (the slot's schedule entries 0 to steps - 1), nine passes each
   // with a barrier between them, then the flow's particles into the state's `chunks`.
   void record(VkCommandBuffer commands, const Scene& scene, const SlotBindings& slot,
               uint32_t steps, const std::vector<ParticleChunk>& chunks);

@@ -217,6 +217,8 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
   if (options.stepsPerDispatch < 1 || options.stepsPerDispatch > kMaxStepsPerDispatch)
     throw InvalidArgument("stepsPerDispatch",
                           "expected 1 to 256, got " + std::to_string(options.stepsPerDispatch));
+  if (options.maxParticleStepsPerSubmission < 1)
+    throw InvalidArgument("maxParticleStepsPerSubmission", "expected at least 1, got 0");
   const uint64_t total = scene.particles();
   const uint64_t limit = device.maxParticles();
   if (total > limit)
@@ -461,8 +463,11 @@ void GpuSimulation::recordInit(VkCommandBuffer commands) const {
 
 void GpuSimulation::Impl::runBlocking(const Scene& scene, uint64_t steps,
                                       const detail::TimestampPair* timer, double* seconds) {
+  // Submissions of at most maxParticleStepsPerSubmission particle-steps, one step at least.
+  const uint64_t most =
+      std::max<uint64_t>(options.maxParticleStepsPerSubmission / scene.particles(), 1);
   while (steps > 0) {
-    const uint32_t batch = static_cast<uint32_t>(std::min<uint64_t>(steps, kBlockingSteps));
+    const uint32_t batch = static_cast<uint32_t>(std::min({steps, uint64_t{kBlockingSteps}, most}));
     plan(scene, kBlockingSlot, batch);
     c.submitNow([&](VkCommandBuffer commands) {
       recordInit(commands);

@@ -91,7 +91,9 @@ struct Model {
   static LAVA_LANES_INLINE V3 of(const Vec3& v) { return {v.x, v.y, v.z}; }
 
   // Speeds below kTinySpeed become 0 (no denormals reach the state).
-  static LAVA_LANES_INLINE Float flushed(Float v) { return select(abs(v) < gpu::kTinySpeed, 0.0f, v); }
+  static LAVA_LANES_INLINE Float flushed(Float v) {
+    return select(abs(v) < gpu::kTinySpeed, 0.0f, v);
+  }
   static LAVA_LANES_INLINE V3 flushed(V3 v) { return {flushed(v.x), flushed(v.y), flushed(v.z)}; }
   // Tangential speeds below kRestSpeed after friction stop: static friction.
   static LAVA_LANES_INLINE Float rest(Float v) { return select(abs(v) < gpu::kRestSpeed, 0.0f, v); }
@@ -124,14 +126,16 @@ struct Model {
     return select(vn < 0.0f, kept + e * n, v);
   }
 
-  // The ground y = 0: restitution on y, friction on x and z.
-  static LAVA_LANES_INLINE void ground(const Scene& s, V3& x, V3& v) {
-    const Mask below = x.y < 0.0f;
-    if (none(below)) return;
+  // The ground y = 0 for the `active` lanes: restitution on y, friction on x and z. Returns
+  // the lanes it moved.
+  static LAVA_LANES_INLINE Mask ground(const Scene& s, V3& x, V3& v, Mask active) {
+    const Mask below = active & (x.y < 0.0f);
+    if (none(below)) return below;
     x.y = select(below, 0.0f, x.y);
     const V3 bounced =
         flushed(V3{rest(s.friction * v.x), -(s.restitution * v.y), rest(s.friction * v.z)});
     v = select(below & (v.y < 0.0f), bounced, v);
+    return below;
   }
 
   // 1/sqrt(q), q > 0: the guess from the bit pattern, then three Newton steps.
@@ -143,12 +147,13 @@ struct Model {
   }
 
   // The solid truncated cone: out through the side along its normal, or onto the cap.
-  static LAVA_LANES_INLINE void cone(const Collider& c, const ConeConstants& k, V3& x, V3& v) {
+  static LAVA_LANES_INLINE Mask cone(const Collider& c, const ConeConstants& k, V3& x, V3& v,
+                                     Mask active) {
     const V3 d = x - of(c.position);
     const Float ry = c.baseRadius + k.slope * d.y;
     const Float q = d.x * d.x + d.z * d.z;
-    const Mask inside = (d.y >= 0.0f) & (d.y < c.height) & (q < ry * ry);
-    if (none(inside)) return;
+    const Mask inside = active & (d.y >= 0.0f) & (d.y < c.height) & (q < ry * ry);
+    if (none(inside)) return inside;
     const Mask offAxis = q >= gpu::kAxisSquared;  // on the axis: the radial direction is +x
     const Float inv = inverseRoot(q);
     const Float rx = select(offAxis, d.x * inv, 1.0f);
@@ -161,58 +166,115 @@ struct Model {
     const V3 moved = select(top, V3{x.x, k.capY, x.z}, x + (side + k.margin) * n);
     x = select(inside, moved, x);
     v = select(inside, flushed(respond(v, n, c.restitution, c.friction)), v);
+    return inside;
   }
 
-  static LAVA_LANES_INLINE void collide(const Collider& c, const Vec3& normal,
-                                        const ConeConstants& k, V3& x, V3& v) {
+  // Collider c for the `active` lanes: those inside are put on its surface and respond.
+  // Returns the lanes it moved.
+  static LAVA_LANES_INLINE Mask collide(const Collider& c, const Vec3& normal,
+                                        const ConeConstants& k, V3& x, V3& v, Mask active) {
     switch (c.type) {
       case ColliderType::Plane: {
         const V3 n = of(normal);
         const Float dist = dot(x - of(c.position), n);
-        const Mask below = dist < 0.0f;
-        if (none(below)) return;
+        const Mask below = active & (dist < 0.0f);
+        if (none(below)) return below;
         x = select(below, x - dist * n, x);
         v = select(below, flushed(respond(v, n, c.restitution, c.friction)), v);
-        return;
+        return below;
       }
       case ColliderType::Sphere: {
         const V3 center = of(c.position);
         const V3 d = x - center;
         const Float q = dot(d, d);
-        const Mask inside = q < c.radius * c.radius;
-        if (none(inside)) return;
+        const Mask inside = active & (q < c.radius * c.radius);
+        if (none(inside)) return inside;
         const Float s = sqrt(q);
         const V3 n = select(q != 0.0f, V3{d.x / s, d.y / s, d.z / s}, V3{0.0f, 1.0f, 0.0f});
         x = select(inside, center + c.radius * n, x);
         v = select(inside, flushed(respond(v, n, c.restitution, c.friction)), v);
-        return;
+        return inside;
       }
       case ColliderType::Box: {
         const V3 center = of(c.position);
         const Vec3& e = c.size;
+        // A box whose bottom is at or below the ground stands on it: the ground closes its
+        // bottom face, so the box holds from the ground up and its bottom is no exit.
+        const bool standing = c.position.y <= e.y;
         const V3 d = x - center;
         const Float ax = abs(d.x), ay = abs(d.y), az = abs(d.z);
-        const Mask inside = (ax < e.x) & (ay < e.y) & (az < e.z);
-        if (none(inside)) return;
-        const Float gx = e.x - ax, gy = e.y - ay, gz = e.z - az;
+        const Mask below = standing ? (d.y < e.y) : (ay < e.y);
+        const Mask inside = active & (ax < e.x) & below & (az < e.z);
+        if (none(inside)) return inside;
+        const Float gx = e.x - ax, gy = e.y - (standing ? d.y : ay), gz = e.z - az;
         // Out through the face of the least gap; ties keep the lowest axis.
         const Mask yBeatsX = gy < gx;
         const Mask isZ = gz < select(yBeatsX, gy, gx);
         const Mask isY = !isZ & yBeatsX;
         const Mask isX = !(isY | isZ);
-        const Float sigma = select(select(isZ, d.z, select(isY, d.y, d.x)) >= 0.0f, 1.0f, -1.0f);
+        const Float side = select(isZ, d.z, select(isY, standing ? e.y : d.y, d.x));
+        const Float sigma = select(side >= 0.0f, 1.0f, -1.0f);
         const V3 moved{select(isX, center.x + sigma * e.x, x.x),
                        select(isY, center.y + sigma * e.y, x.y),
                        select(isZ, center.z + sigma * e.z, x.z)};
         const V3 n{select(isX, sigma, 0.0f), select(isY, sigma, 0.0f), select(isZ, sigma, 0.0f)};
         x = select(inside, moved, x);
         v = select(inside, flushed(respond(v, n, c.restitution, c.friction)), v);
-        return;
+        return inside;
       }
       case ColliderType::Cone:
-        cone(c, k, x, v);
-        return;
+        return cone(c, k, x, v, active);
     }
+    return active & !active;
+  }
+
+  // Whether the lanes in `active` lie inside the ground or a collider.
+  static LAVA_LANES_INLINE Mask insideASolid(const Scene& s, const Reference& r, V3 x,
+                                             Mask active) {
+    Mask inside = active & (x.y < 0.0f);
+    for (size_t i = 0; i < s.colliders.size(); ++i) {
+      V3 at = x, v{0.0f, 0.0f, 0.0f};
+      inside = inside | collide(s.colliders[i], r.planeNormal(i), r.cone(i), at, v, active);
+    }
+    return inside;
+  }
+
+  // docs/model.md "Contact": the ground, then the colliders in the scene's order, round and
+  // round, until every solid but the last to move a lane has found it outside since then;
+  // at most kContactRounds rounds. A lane still unresolved takes back x0, its position at
+  // the start of the step, with v = 0; or dies (age -1, x = v = 0) when x0 is inside a solid
+  // too. `s` gives the restitutions (the flow's own for its particles). Returns the lanes
+  // the solids moved.
+  static LAVA_LANES_INLINE Mask contact(const Scene& s, const Reference& r, const V3& x0, V3& x,
+                                        V3& v, Float& age, Mask active) {
+    const size_t solids = s.colliders.size() + 1;
+    Float clear = 0.0f;                       // solids in a row that found the lane outside
+    Float need = static_cast<float>(solids);  // all of them, then all but the last mover
+    Mask open = active, touched = active & !active;
+    for (size_t visit = 0; visit < gpu::kContactRounds * solids; ++visit) {
+      const size_t k = visit % solids;
+      const Mask moved =
+          k == 0 ? ground(s, x, v, open)
+                 : collide(s.colliders[k - 1], r.planeNormal(k - 1), r.cone(k - 1), x, v, open);
+      touched = touched | moved;
+      clear = select(moved, 0.0f, clear + 1.0f);
+      need = select(moved, static_cast<float>(solids - 1), need);
+      open = open & (clear < need);
+      if (none(open)) return touched;
+    }
+    const Mask lost = insideASolid(s, r, x0, open);
+    const V3 zero{0.0f, 0.0f, 0.0f};
+    x = select(open, select(lost, zero, x0), x);
+    v = select(open, zero, v);
+    age = select(lost, -1.0f, age);
+    return touched;
+  }
+
+  // Whether any of the six components is NaN or infinite.
+  static LAVA_LANES_INLINE Mask nonFinite(const V3& x, const V3& v) {
+    const float most = 3.40282347e38f;  // FLT_MAX: NaN compares false, so it is not finite
+    return !((abs(x.x) <= most) & (abs(x.y) <= most) & (abs(x.z) <= most) & (abs(v.x) <= most) &
+             (abs(v.y) <= most) & (abs(v.z) <= most));
   }
 
   // One step of emitter `emitter`'s particles in the lanes: the integrator, the ground, the
@@ -246,12 +308,18 @@ struct Model {
     }
     v1 = flushed(v1);
     Float age1 = age + h;
-    ground(s, x1, v1);
+    // A NaN or infinity dies here, with x = v = 0 (docs/model.md "Non-finite values").
+    const Mask broken = alive & nonFinite(x1, v1);
+    const V3 zero{0.0f, 0.0f, 0.0f};
+    x1 = select(broken, zero, x1);
+    v1 = select(broken, zero, v1);
+    age1 = select(broken, -1.0f, age1);
     if (Use == Modules::Any) {
-      for (size_t i = 0; i < s.colliders.size(); ++i)
-        collide(s.colliders[i], r.planeNormal(i), r.cone(i), x1, v1);
+      contact(s, r, x, x1, v1, age1, alive & !broken);
       const float lifetime = s.emitters[emitter].lifetime;
       if (lifetime > 0.0f) age1 = select(age1 >= lifetime, -1.0f, age1);
+    } else {
+      ground(s, x1, v1, alive & !broken);
     }
     x = select(alive, x1, x);
     v = select(alive, v1, v);

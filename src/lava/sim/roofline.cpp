@@ -289,7 +289,10 @@ FlowNeighbours flowNeighbours(const Scene& scene, const State& state) {
           const detail::Cell c = cellOf[i];
           const auto found = cells.find(cellKey({c.x + dx, c.y + dy, c.z + dz}));
           if (found == cells.end()) continue;
-          for (uint32_t j : found->second) {
+          // The step's neighbour loops read a bucket's first kFlowBucketCap slots.
+          const size_t reads = std::min<size_t>(found->second.size(), gpu::kFlowBucketCap);
+          for (size_t r = 0; r < reads; ++r) {
+            const uint32_t j = found->second[r];
             const Particle& o = out.particles[j];
             const float x = p.px - o.px, y = p.py - o.py, z = p.pz - o.pz;
             if (j != i && 1.0f - ((x * x + y * y) + z * z) * inv2 > detail::kPairCut)
