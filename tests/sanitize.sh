@@ -28,9 +28,13 @@ cmake --build build-asan -j2
 # The groups of the tests that load no Vulkan.
 novulkan='Random|Physics|Emission|StateIo|Compare|Integrators|Forces|Colliders|Denormals|SceneKeys|SceneToml|Spirv|Simd|Effects/SimdModules|FlowKeys|FlowState|FlowPhysics'
 # The flow's longest physics (a pool's spreading over seconds) are the plain suite's: the
-# same host code as the shorter flow tests here, at 4 times the time.
-physics='^FlowPhysics\.(APool|AHotter|TheLessViscous)'
-ctest --test-dir build-asan --output-on-failure -j2 -R "^($novulkan)\\." -E "$physics"
+# same host code as the shorter flow tests here, at 4 times the time. So are the SIMD
+# kernels' bit-for-bit checks of each module on its own and of random scenes: every module
+# runs through the same kernels in the "all" scene, which runs here (with the flow's).
+physics='^FlowPhysics\.(APool|AHotter|TheLessViscous)|^Simd\.RandomScenes'
+modules='[^ ]*/(bursts|collider|emitter|force|integrator)'
+ctest --test-dir build-asan --output-on-failure -j2 -R "^($novulkan)\\." \
+      -E "$physics|^Effects/SimdModules\\.$modules"
 # Left to the plain suite, whose runs of them take the same host code as the shorter tests
 # here: the flow's pool physics and module scene and the soak of a million steps (lavapipe's
 # time, not the host's), 2^31 births in a dispatch (the births tests' split, 4 minutes under
@@ -40,6 +44,13 @@ ctest --test-dir build-asan --output-on-failure -j2 -R "^($novulkan)\\." -E "$ph
 # regular expression: one backslash before a literal dot.
 long='^Effects/Modules\.AreBitIdenticalToTheCpuReference/flow |^GpuFlow\.(FlowSlotsAcross|APool|AHotter)'
 long+='|^GpuTest\.(SoakOfAMillionSteps|ADispatchOfMoreThan2To31Births)|^(Runbook|Install)\.'
+# And, as in the first run, each module on its own (the "all" scene and the flow's run
+# here) and the CPU's thread counts (the SIMD kernels' own tests run them on one and two).
+long+="|^Effects/Modules\\.$modules|^GpuTest\\.CpuThreadCounts"
+# And the GPU-against-CPU runs of random scenes, of many emitters' births and of resuming the
+# "all" scene: the host code of each is in the shorter tests here, the CPU reference's time
+# four times over.
+long+='|^GpuTest\.(RandomScenes|BirthsOfManyEmitters)|^Effects/Modules\.Resume[^ ]*/all '
 ASAN_OPTIONS=detect_leaks=0 ctest --test-dir build-asan --output-on-failure -j2 -LE program \
       -E "^(Drivers|$novulkan)\\.|$long"
 icd=$(sed -n 's/.*"library_path": *"\([^"]*\)".*/\1/p' \
@@ -49,13 +60,17 @@ echo "sanitize: the program's tests with leak checking (preloaded: $icd, the fau
 # tables are long, and two fixed halves finished minutes apart.
 shard() {
   env VK_DRIVER_FILES="${LAVA_LAVAPIPE_ICD:-/usr/share/vulkan/icd.d/lvp_icd.x86_64.json}" \
-      LAVA_VALIDATION=0 GTEST_TOTAL_SHARDS=6 GTEST_SHARD_INDEX=$1 \
+      LAVA_VALIDATION=0 GTEST_TOTAL_SHARDS=6 GTEST_SHARD_INDEX=$1 GTEST_FILTER="-$slow" \
       LD_PRELOAD="$icd $PWD/build-asan/tests/fault/liblava_fault_layer.so" \
       ASAN_OPTIONS=detect_leaks=1:verify_asan_link_order=0 \
       LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp \
       build-asan/tests/lava_cli_tests > "build-asan/cli-shard-$1.log" 2>&1
 }
+# Left to the plain suite: the progress display's long runs on a terminal and the builtin
+# suite's reports (the suite's code runs here in the other Suite tests).
+slow='Progress.*:Suite.BuiltinPassesWithParsableReports'
 export -f shard
+export slow
 export icd
 status=0
 printf '%s\n' 0 1 2 3 4 5 | xargs -P 2 -I{} bash -c 'shard {}' || status=1

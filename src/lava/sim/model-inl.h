@@ -234,7 +234,8 @@ struct Model {
     Mask inside = active & (x.y < 0.0f);
     for (size_t i = 0; i < s.colliders.size(); ++i) {
       V3 at = x, v{0.0f, 0.0f, 0.0f};
-      inside = inside | collide(s.colliders[i], r.planeNormal(i), r.cone(i), at, v, active);
+      const Mask in = collide(s.colliders[i], r.planeNormal(i), r.cone(i), at, v, active);
+      inside = inside | in;
     }
     return inside;
   }
@@ -273,8 +274,10 @@ struct Model {
   // Whether any of the six components is NaN or infinite.
   static LAVA_LANES_INLINE Mask nonFinite(const V3& x, const V3& v) {
     const float most = 3.40282347e38f;  // FLT_MAX: NaN compares false, so it is not finite
-    return !((abs(x.x) <= most) & (abs(x.y) <= most) & (abs(x.z) <= most) & (abs(v.x) <= most) &
-             (abs(v.y) <= most) & (abs(v.z) <= most));
+    const Float ax = abs(x.x), ay = abs(x.y), az = abs(x.z);
+    const Float bx = abs(v.x), by = abs(v.y), bz = abs(v.z);
+    return !((ax <= most) & (ay <= most) & (az <= most) & (bx <= most) & (by <= most) &
+             (bz <= most));
   }
 
   // One step of emitter `emitter`'s particles in the lanes: the integrator, the ground, the
@@ -309,7 +312,8 @@ struct Model {
     v1 = flushed(v1);
     Float age1 = age + h;
     // A NaN or infinity dies here, with x = v = 0 (docs/model.md "Non-finite values").
-    const Mask broken = alive & nonFinite(x1, v1);
+    const Mask nonFiniteLanes = nonFinite(x1, v1);
+    const Mask broken = alive & nonFiniteLanes;
     const V3 zero{0.0f, 0.0f, 0.0f};
     x1 = select(broken, zero, x1);
     v1 = select(broken, zero, v1);
