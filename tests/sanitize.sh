@@ -51,6 +51,10 @@ long+="|^Effects/Modules\\.$modules|^GpuTest\\.CpuThreadCounts"
 # "all" scene: the host code of each is in the shorter tests here, the CPU reference's time
 # four times over.
 long+='|^GpuTest\.(RandomScenes|BirthsOfManyEmitters)|^Effects/Modules\.Resume[^ ]*/all '
+# And the longest GPU runs of host code that shorter tests here take too: 512 chunks (the
+# limits' tests chunk as each vendor would) and the flow's standing boxes and tilted pool (its
+# grid, point burst and lattice tests run the same passes).
+long+='|^GpuTest\.ManyChunksPastTheStorageBufferRange|^GpuFlow\.(BoxesStanding|AReleasedPool)'
 ASAN_OPTIONS=detect_leaks=0 ctest --test-dir build-asan --output-on-failure -j2 -LE program \
       -E "^(Drivers|$novulkan)\\.|$long"
 icd=$(sed -n 's/.*"library_path": *"\([^"]*\)".*/\1/p' \

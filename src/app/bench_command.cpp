@@ -13,11 +13,11 @@
 
 #include "commands.h"
 #include "host/output.h"
-#include "lava/lava.h"
 #include "lava/bench.h"
+#include "lava/lava.h"
 #include "options.h"
-#include "runtime.h"
 #include "paths.h"
+#include "runtime.h"
 
 namespace lava::app {
 namespace {
@@ -28,11 +28,11 @@ struct Row {
   std::string backend;
   uint64_t particles;
   uint64_t steps;
-  double updatesPerSecond;        // end to end, wall clock
-  double deviceUpdatesPerSecond;  // GPU: timestamp queries; CPU: same as end to end
-  double copyGbps;                // the roofline kernel's bandwidth
-  double rooflineFraction;        // device updates/s over copy bandwidth / bytes per update
-  uint64_t fused;                 // steps each particle takes per trip through memory
+  double updatesPerSecond;         // end to end, wall clock
+  double deviceUpdatesPerSecond;   // GPU: timestamp queries; CPU: same as end to end
+  double copyGbps;                 // the roofline kernel's bandwidth
+  double rooflineFraction;         // device updates/s over copy bandwidth / bytes per update
+  uint64_t fused;                  // steps each particle takes per trip through memory
   double computeUpdatesPerSecond;  // the step alone, no memory traffic
   double computeFraction;          // device updates/s over that
   const char* bound;               // the lower ceiling: "compute", "memory" or "-"
@@ -47,9 +47,9 @@ double secondsOf(const std::function<void()>& work) {
 class BenchCommand final : public Command {
  public:
   explicit BenchCommand(CLI::App& app)
-      : Command(
-            app.add_subcommand("bench", "updates/s of each backend against its copy and compute "
-                                        "rooflines")),
+      : Command(app, "bench",
+                "updates/s of each backend against its copy and compute "
+                "rooflines"),
         options_(*command_) {
     options_.addSceneFlags(scene_, device_);
     options_.add(
@@ -100,15 +100,16 @@ class BenchCommand final : public Command {
     if (point_ && !flow_) throw UsageError("--point: needs --flow (the flow's point burst)");
     if (options_.given("particles"))
       throw UsageError("--particles: bench sets the counts with --sizes (e.g. --sizes " +
-                             options_.text("particles") + ")");
+                       options_.text("particles") + ")");
     Device context(deviceOptions(device_));
     const std::string device = context.properties().deviceName;
     const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
     if (flow_) return runFlow(context, device, cores);
-    std::printf("bench: %s, %llu steps, %u steps per dispatch, %u CPU threads for -mt; "
-                "cpu-simd: %s\n",
-                device.c_str(), static_cast<unsigned long long>(steps_), fused_, cores,
-                cpuSimdTarget(simdTarget_).c_str());
+    std::printf(
+        "bench: %s, %llu steps, %u steps per dispatch, %u CPU threads for -mt; "
+        "cpu-simd: %s\n",
+        device.c_str(), static_cast<unsigned long long>(steps_), fused_, cores,
+        cpuSimdTarget(simdTarget_).c_str());
     std::printf("%-11s %10s %12s %12s %8s %9s %7s %12s %9s %7s\n", "backend", "particles",
                 "updates/s", "device upd/s", "GB/s", "copy GB/s", "x copy", "compute upd/s",
                 "x compute", "bound");
@@ -119,9 +120,8 @@ class BenchCommand final : public Command {
     progress_ = &progress;
     for (uint32_t n : sizes_) {
       if (n > context.maxParticles())
-        throw UsageError("--sizes: " + std::to_string(n) +
-                               " particles exceed this device's " +
-                               std::to_string(context.maxParticles()) + " (see 'lava info')");
+        throw UsageError("--sizes: " + std::to_string(n) + " particles exceed this device's " +
+                         std::to_string(context.maxParticles()) + " (see 'lava info')");
       Scene scene = scene_;
       scene.emitters.at(0).particles = n;
       const State start = allAlive(scene);
@@ -129,8 +129,7 @@ class BenchCommand final : public Command {
       if (wants("cpu")) rows.push_back(benchCpu(scene, start, 1, CpuKernel::Reference, "cpu"));
       if (wants("cpu-mt"))
         rows.push_back(benchCpu(scene, start, cores, CpuKernel::Reference, "cpu-mt"));
-      if (wants("cpu-simd"))
-        rows.push_back(benchCpu(scene, start, 1, CpuKernel::Simd, "cpu-simd"));
+      if (wants("cpu-simd")) rows.push_back(benchCpu(scene, start, 1, CpuKernel::Simd, "cpu-simd"));
       if (wants("cpu-simd-mt"))
         rows.push_back(benchCpu(scene, start, cores, CpuKernel::Simd, "cpu-simd-mt"));
     }
@@ -205,8 +204,9 @@ class BenchCommand final : public Command {
                     double(n) * steps / seconds, pairs / double(n), pairsPerSecond, ceiling,
                     pairsPerSecond / ceiling);
         json << (first ? "" : ",\n") << "    {\"backend\": \"" << backend
-             << "\", \"particles\": " << n << ", \"particle_steps_per_second\": "
-             << double(n) * steps / seconds << ", \"pairs_per_second\": " << pairsPerSecond
+             << "\", \"particles\": " << n
+             << ", \"particle_steps_per_second\": " << double(n) * steps / seconds
+             << ", \"pairs_per_second\": " << pairsPerSecond
              << ", \"ceiling_pairs_per_second\": " << ceiling << "}";
         first = false;
       };
@@ -262,8 +262,8 @@ class BenchCommand final : public Command {
     const double compute = gpuComputeUpdatesPerSecond(
         context, scene, start.particles, static_cast<uint32_t>(std::max<uint64_t>(steps_, 64)));
     return report({"gpu", scene.particles(), steps_, updates(scene, wall), updates(scene, device),
-                   bandwidth(scene, copy), 0.0, std::min<uint64_t>(steps_, fused_), compute,
-                   0.0, "-"});
+                   bandwidth(scene, copy), 0.0, std::min<uint64_t>(steps_, fused_), compute, 0.0,
+                   "-"});
   }
 
   Row benchCpu(const Scene& scene, const State& start, unsigned threads, CpuKernel kernel,
@@ -280,8 +280,8 @@ class BenchCommand final : public Command {
                                                    3, 0.15, simdTarget_);
     // A block stays in L1 for a whole batch of planned steps (4096 at most).
     return report({name, scene.particles(), steps_, updates(scene, wall), updates(scene, wall),
-                   bandwidth(scene, copy), 0.0, std::min<uint64_t>(steps_, 4096),
-                   ceiling->second, 0.0, "-"});
+                   bandwidth(scene, copy), 0.0, std::min<uint64_t>(steps_, 4096), ceiling->second,
+                   0.0, "-"});
   }
 
   double updates(const Scene& scene, double seconds) const {
@@ -304,11 +304,10 @@ class BenchCommand final : public Command {
     } else if (row.fused == 1) {
       row.bound = "memory";  // one step per trip: the copy ceiling is the step's own
     }
-    std::printf("%-11s %10llu %12.4g %12.4g %8.2f %9.2f %6.2fx %12s %9s %7s\n",
-                row.backend.c_str(), static_cast<unsigned long long>(row.particles),
-                row.updatesPerSecond, row.deviceUpdatesPerSecond,
-                row.deviceUpdatesPerSecond * kBytesPerUpdate * 1e-9, row.copyGbps,
-                row.rooflineFraction, compute, fraction, row.bound);
+    std::printf("%-11s %10llu %12.4g %12.4g %8.2f %9.2f %6.2fx %12s %9s %7s\n", row.backend.c_str(),
+                static_cast<unsigned long long>(row.particles), row.updatesPerSecond,
+                row.deviceUpdatesPerSecond, row.deviceUpdatesPerSecond * kBytesPerUpdate * 1e-9,
+                row.copyGbps, row.rooflineFraction, compute, fraction, row.bound);
     std::fflush(stdout);
     if (progress_) progress_->update(++reported_);
     return row;
@@ -331,8 +330,7 @@ class BenchCommand final : public Command {
           << ", \"steps_per_memory_trip\": " << r.fused
           << ", \"compute_updates_per_second\": " << r.computeUpdatesPerSecond
           << ", \"compute_fraction\": " << r.computeFraction << ", \"bound\": \"" << r.bound
-          << "\"}"
-          << (i + 1 < rows.size() ? "," : "") << "\n";
+          << "\"}" << (i + 1 < rows.size() ? "," : "") << "\n";
     }
     out << "  ]\n}\n";
     return out.str();
@@ -344,8 +342,7 @@ class BenchCommand final : public Command {
     for (std::string item; std::getline(stream, item, ',');)
       sizes.push_back(static_cast<uint32_t>(parseInteger(source, item, 1, 0x80000000u)));
     if (sizes.empty() || text.back() == ',')
-      throw UsageError(source + ": expected comma-separated particle counts, got '" + text +
-                             "'");
+      throw UsageError(source + ": expected comma-separated particle counts, got '" + text + "'");
     return sizes;
   }
 
@@ -357,7 +354,7 @@ class BenchCommand final : public Command {
       if (item != "gpu" && item != "cpu" && item != "cpu-mt" && item != "cpu-simd" &&
           item != "cpu-simd-mt")
         throw UsageError(source + ": expected a comma-separated subset of " + kBackends +
-                               ", got '" + text + "'");
+                         ", got '" + text + "'");
       backends.push_back(item);
     }
     if (backends.empty())
@@ -374,8 +371,8 @@ class BenchCommand final : public Command {
   std::vector<std::string> backends_;
   std::string json_;
   bool flow_ = false;
-  bool point_ = false;  // --point
-  std::string simdTarget_;  // --simd-target ("": the best)
+  bool point_ = false;                             // --point
+  std::string simdTarget_;                         // --simd-target ("": the best)
   std::map<std::string, double> computeCeilings_;  // per row kind
   Progress* progress_ = nullptr;                   // rows done, while run() runs
   uint64_t reported_ = 0;

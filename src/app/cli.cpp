@@ -13,10 +13,10 @@
 #include "host/output.h"
 #include "lava/error.h"
 #include "lava/scene.h"
-#include "lava/version.h"
 #include "lava/scene_keys.h"
-#include "runtime.h"
+#include "lava/version.h"
 #include "paths.h"
+#include "runtime.h"
 
 namespace {
 
@@ -34,7 +34,8 @@ std::string nearestFlag(const CLI::App& app, const char* command, const std::str
 
 std::string usageMessage(const CLI::App& app, const char* command, const CLI::ParseError& error) {
   const std::string what = error.what();
-  static const std::regex unexpected(R"(^The following arguments? (?:was|were) not expected: (.*)$)");
+  static const std::regex unexpected(
+      R"(^The following arguments? (?:was|were) not expected: (.*)$)");
   std::smatch u;
   std::string flag;
   if (std::regex_match(what, u, unexpected)) {
@@ -78,6 +79,13 @@ std::string parameterMessage(const lava::InvalidArgument& e) {
 }  // namespace
 
 namespace lava::app {
+
+Command::Command(CLI::App& app, const char* name, const char* description)
+    : command_(app.add_subcommand(name, description)) {}
+
+bool Command::chosen() const {
+  return command_->parsed();
+}
 
 int runCommandLine(int argc, char** argv, bool parseOnly) {
   parseOnlyMode() = parseOnly;

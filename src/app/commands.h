@@ -1,19 +1,24 @@
 // The subcommands of `lava`. Each registers its flags on construction and runs when chosen.
 #pragma once
-#include <CLI/CLI.hpp>
-
 #include <memory>
+
+// CLI11 is confined to cli.cpp and options.cpp: its header alone costs a translation unit
+// 16 s under the sanitizers (docs/testing.md, "Build time").
+namespace CLI {
+class App;
+}
 
 namespace lava::app {
 
 class Command {
  public:
   virtual ~Command() = default;
-  bool chosen() const { return command_->parsed(); }
+  bool chosen() const;
   virtual int run() = 0;  // exit status; throws UsageError / ResourceError / VulkanError
 
  protected:
-  explicit Command(CLI::App* command) : command_(command) {}
+  // Registers the subcommand `name` on `app` (cli.cpp).
+  Command(CLI::App& app, const char* name, const char* description);
   CLI::App* command_;
 };
 

@@ -11,9 +11,9 @@
 #include "host/output.h"
 #include "lava/device.h"
 #include "options.h"
+#include "paths.h"
 #include "runtime.h"
 #include "window/demo_window.h"
-#include "paths.h"
 
 namespace lava::app {
 namespace {
@@ -45,8 +45,7 @@ void sayThreads(unsigned threads, const std::string& device) {
 class DemoCommand final : public Command {
  public:
   explicit DemoCommand(CLI::App& app)
-      : Command(app.add_subcommand("demo", "the interactive lava demo in a window")),
-        options_(*command_) {
+      : Command(app, "demo", "the interactive lava demo in a window"), options_(*command_) {
     options_.addSceneFlags(demo_.scene, demo_.device);
     options_.add(
         "size", "window size WxH [1280x720]",

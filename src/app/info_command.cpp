@@ -30,7 +30,7 @@ const char* deviceTypeName(VkPhysicalDeviceType type) {
 class InfoCommand final : public Command {
  public:
   explicit InfoCommand(CLI::App& app)
-      : Command(app.add_subcommand("info", "list Vulkan devices and the limits that matter")),
+      : Command(app, "info", "list Vulkan devices and the limits that matter"),
         options_(*command_) {
     options_.add("device", "device index to describe [best; or LAVA_DEVICE]",
                  [this](const std::string& src, const std::string& t) {

@@ -1,5 +1,7 @@
 #include "options.h"
 
+#include <CLI/CLI.hpp>
+
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -123,8 +125,7 @@ void Options::resolve() {
       if (scene_) *scene_ = std::move(read);
     } catch (const InvalidArgument& e) {
       if (e.parameter() == scenePath_ || e.parameter() == "scene")  // the file as a whole
-        throw UsageError("--scene: " + (scenePath_.empty() ? "" : scenePath_ + ": ") +
-                               e.detail());
+        throw UsageError("--scene: " + (scenePath_.empty() ? "" : scenePath_ + ": ") + e.detail());
       throw UsageError(e.what());
     }
   }
@@ -148,8 +149,8 @@ void Options::resolve() {
     if (command_.count("--" + name) > 0) continue;
     if (auto it = fromFile.find(name); it != fromFile.end()) {
       if (it->second != "true" && it->second != "false")
-        throw UsageError(scenePath_ + ": " + name + ": expected true or false, got '" +
-                               it->second + "'");
+        throw UsageError(scenePath_ + ": " + name + ": expected true or false, got '" + it->second +
+                         "'");
       *value = it->second == "true";
     }
   }

@@ -2,8 +2,6 @@
 // a scene file, when given, is read first, then the command line overrides it. A command's
 // own options can be set from the same file; keys of other commands are passed over.
 #pragma once
-#include <CLI/CLI.hpp>
-
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -14,6 +12,11 @@
 
 #include "lava/scene.h"
 #include "lava/scene_keys.h"
+
+namespace CLI {
+class App;
+class Option;
+}  // namespace CLI
 
 namespace lava::app {
 

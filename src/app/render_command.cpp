@@ -16,9 +16,9 @@
 #include "host/output.h"
 #include "lava/device.h"
 #include "options.h"
+#include "paths.h"
 #include "resume.h"
 #include "runtime.h"
-#include "paths.h"
 
 namespace lava::app {
 namespace {
@@ -62,7 +62,7 @@ int runFfmpeg(const std::string& ffmpeg, const std::vector<std::string>& args) {
 class RenderCommand final : public Command {
  public:
   explicit RenderCommand(CLI::App& app)
-      : Command(app.add_subcommand("render", "write PNG frames of the scene (no display needed)")),
+      : Command(app, "render", "write PNG frames of the scene (no display needed)"),
         options_(*command_) {
     options_.addSceneFlags(scene_, device_);
     options_.add(
@@ -128,11 +128,26 @@ class RenderCommand final : public Command {
                                ".lava-video-" + std::to_string(getpid()) + ".mp4";
       char rate[32];
       std::snprintf(rate, sizeof(rate), "%g", plan_.fps);
-      const int status = runFfmpeg(
-          ffmpeg_, {"-loglevel", "error", "-y", "-framerate", rate, "-start_number", "0", "-i",
-                    plan_.folder + "/frame_%05d.png", "-frames:v", std::to_string(plan_.frames),
-                    "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-pix_fmt",
-                    "yuv420p", "-f", "mp4", temp});
+      const int status = runFfmpeg(ffmpeg_, {"-loglevel",
+                                             "error",
+                                             "-y",
+                                             "-framerate",
+                                             rate,
+                                             "-start_number",
+                                             "0",
+                                             "-i",
+                                             plan_.folder + "/frame_%05d.png",
+                                             "-frames:v",
+                                             std::to_string(plan_.frames),
+                                             "-vf",
+                                             "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+                                             "-c:v",
+                                             "libx264",
+                                             "-pix_fmt",
+                                             "yuv420p",
+                                             "-f",
+                                             "mp4",
+                                             temp});
       if (status != 0 || std::rename(temp.c_str(), video_.c_str()) != 0) {
         std::remove(temp.c_str());
         std::fprintf(stderr, "lava: ffmpeg failed to encode '%s'%s\n", video_.c_str(),

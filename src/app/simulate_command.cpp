@@ -10,12 +10,12 @@
 
 #include "commands.h"
 #include "host/output.h"
-#include "lava/lava.h"
 #include "lava/checkpoint.h"
+#include "lava/lava.h"
 #include "options.h"
+#include "paths.h"
 #include "resume.h"
 #include "runtime.h"
-#include "paths.h"
 
 namespace lava::app {
 namespace {
@@ -29,7 +29,7 @@ extern "C" void onStopSignal(int signal) {
 class SimulateCommand final : public Command {
  public:
   explicit SimulateCommand(CLI::App& app)
-      : Command(app.add_subcommand("simulate", "run a scene headless and write its final state")),
+      : Command(app, "simulate", "run a scene headless and write its final state"),
         options_(*command_) {
     options_.addSceneFlags(scene_, device_);
     options_.add(
@@ -43,8 +43,7 @@ class SimulateCommand final : public Command {
                  "the same bytes) [gpu]",
                  [this](const std::string& src, const std::string& t) {
                    if (t != "gpu" && t != "cpu" && t != "cpu-simd")
-                     throw UsageError(src + ": expected gpu, cpu or cpu-simd, got '" + t +
-                                            "'");
+                     throw UsageError(src + ": expected gpu, cpu or cpu-simd, got '" + t + "'");
                    gpu_ = t == "gpu";
                    kernel_ = t == "cpu-simd" ? CpuKernel::Simd : CpuKernel::Reference;
                  });
@@ -104,9 +103,8 @@ class SimulateCommand final : public Command {
     const auto start = std::chrono::steady_clock::now();
     // Batches of about 2^26 particle-steps (at least one step, at most 4096): a signal is
     // answered within a fraction of a second, at a step boundary.
-    const uint64_t batchSteps =
-        std::clamp<uint64_t>((uint64_t{1} << 26) / std::max<uint64_t>(scene_.particles(), 1), 1,
-                             4096);
+    const uint64_t batchSteps = std::clamp<uint64_t>(
+        (uint64_t{1} << 26) / std::max<uint64_t>(scene_.particles(), 1), 1, 4096);
     uint64_t done = 0;
     {
       Progress progress("simulate", steps_);
@@ -130,8 +128,7 @@ class SimulateCommand final : public Command {
           "%s: continue with lava simulate --resume %s --steps %llu\n",
           interrupted == SIGINT ? "SIGINT" : "SIGTERM", static_cast<unsigned long long>(done),
           static_cast<unsigned long long>(steps_), static_cast<unsigned long long>(state.step),
-          checkpoint_.c_str(), checkpoint_.c_str(),
-          static_cast<unsigned long long>(steps_ - done));
+          checkpoint_.c_str(), checkpoint_.c_str(), static_cast<unsigned long long>(steps_ - done));
       const int status = interrupted == SIGINT ? 130 : 143;
       return device ? finish(*device, status) : status;
     }
@@ -153,8 +150,7 @@ class SimulateCommand final : public Command {
         static_cast<unsigned long long>(steps_), simulation->name().c_str(),
         formatSeconds(seconds).c_str(),
         formatSeconds(std::chrono::duration<double>(start - begun).count()).c_str(),
-        static_cast<unsigned long long>(alive),
-        static_cast<unsigned long long>(below),
+        static_cast<unsigned long long>(alive), static_cast<unsigned long long>(below),
         static_cast<unsigned long long>(stateHash(state)), out_.empty() ? "" : ", wrote ",
         out_.c_str());
     if (!checkpoint_.empty())

@@ -37,7 +37,7 @@ double energyOf(const Particle& p, double g) {
 class StudyCommand final : public Command {
  public:
   explicit StudyCommand(CLI::App& app)
-      : Command(app.add_subcommand("study", "integrator accuracy and energy for one particle")),
+      : Command(app, "study", "integrator accuracy and energy for one particle"),
         options_(*command_) {
     options_.addSceneFlags(scene_, device_);
     options_.add("integrators",

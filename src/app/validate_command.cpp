@@ -30,8 +30,7 @@ unsigned cores() {
 class ValidateCommand final : public Command {
  public:
   explicit ValidateCommand(CLI::App& app)
-      : Command(app.add_subcommand("validate", "compare the GPU against the CPU reference")),
-        options_(*command_) {
+      : Command(app, "validate", "compare the GPU against the CPU reference"), options_(*command_) {
     options_.addSceneFlags(scene_, device_);
     options_.add("steps", "steps to run, 1..1e9 (required without --suite)",
                  [this](const std::string& src, const std::string& t) {
