@@ -31,7 +31,7 @@ std::map<std::string, bool> outputsOf(const std::string& args) {
   std::string word, previous;
   while (words >> word) {
     for (const char* flag : {"--out", "--csv", "--json", "--video", "--junit", "--results",
-                             "--record", "--checkpoint"})
+                             "--record", "--checkpoint", "--series"})
       if (previous == flag) paths[word] = access(word.c_str(), F_OK) == 0;
     previous = word;
   }
@@ -111,6 +111,15 @@ const BadInput kBadInputs[] = {
     {"simulate --steps 10 --gravity 1e9", "--gravity"},
     {"simulate --steps 10 --seed 4294967296", "--seed"},
     {"simulate --steps 10 --rate -3", "--rate"},
+    {"simulate --steps 10 --series hostile-series --every 0", "--every"},
+    {"simulate --steps 10 --series hostile-series --every x", "--every"},
+    {"simulate --steps 10 --series hostile-series --every 1e10", "--every"},
+    {"simulate --steps 10 --series hostile-series", "--series"},
+    {"simulate --steps 10 --every 5", "--every"},
+    {"simulate --steps 10 --series . --every 5", "--series"},
+    {"simulate --steps 10 --series / --every 5", "--series"},
+    {"simulate --steps 10 --series /nonexistent/run --every 5", "--series"},
+    {"simulate --steps 10 --series /dev/null --every 5", "--series"},
     {"simulate --steps 10 --line-scale 11", "--line-scale"},
     {"simulate --steps 10 --drag -1", "--drag"},
     {"simulate --steps 10 --wind 1,2", "--wind"},

@@ -38,25 +38,6 @@ void checkSize(const Device& device, VkExtent2D size) {
                            std::to_string(size.height));
 }
 
-std::string outputFolder(const std::string& source, const std::string& path) {
-  if (path.empty()) throw UsageError(source + ": expected a folder, got ''");
-  struct stat info {};
-  if (stat(path.c_str(), &info) == 0) {
-    if (!S_ISDIR(info.st_mode) || access(path.c_str(), W_OK) != 0)
-      throw UsageError(source + ": '" + path + "' is not a writable folder");
-    return path;
-  }
-  // Created when the frames are written, not before: a usage error leaves no folder behind.
-  const size_t slash = path.find_last_of('/', path.find_last_not_of('/'));
-  const std::string parent =
-      slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
-  if (stat(parent.c_str(), &info) != 0 || !S_ISDIR(info.st_mode) ||
-      access(parent.c_str(), W_OK) != 0)
-    throw UsageError(source + ": cannot create folder '" + path + "': '" + parent +
-                           "' is not a writable folder");
-  return path;
-}
-
 void createOutputFolder(const std::string& path) {
   if (mkdir(path.c_str(), 0755) != 0 && errno != EEXIST)
     throw UsageError("--out: cannot create folder '" + path + "': " + std::strerror(errno));

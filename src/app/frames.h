@@ -37,9 +37,6 @@ struct FramePlan {
 VkExtent2D parseSize(const std::string& source, const std::string& text);
 // Throws UsageError naming --size unless both sides fit the device's image limit.
 void checkSize(const Device& device, VkExtent2D size);
-// Throws UsageError naming `source` unless `path` is a writable folder or one that can be
-// created (renderFrames() creates it, once every other check has passed).
-std::string outputFolder(const std::string& source, const std::string& path);
 // "lines" or "splat" for the flag named by `source`.
 LineMode parseLineMode(const std::string& source, const std::string& text);
 // Lines below kSplatFrom particles, the splat from there.

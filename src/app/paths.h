@@ -16,5 +16,12 @@ class UsageError : public std::runtime_error {
 void checkOutputPath(const std::string& flag, const std::string& path,
                      const std::string& extension);
 void checkStatePath(const std::string& flag, const std::string& path);
+// Throws UsageError naming `source` unless `path` is a writable folder or one that can be
+// created (the command creates it once every other check has passed: a usage error leaves no folder
+// behind).
+std::string outputFolder(const std::string& source, const std::string& path);
+// --series DIR: a folder with a name (DIR.pvd is written beside it) that outputFolder()
+// accepts, without its trailing slashes.
+std::string seriesFolder(const std::string& flag, const std::string& path);
 
 }  // namespace lava::app

@@ -10,6 +10,7 @@
 
 #include "commands.h"
 #include "host/output.h"
+#include "host/series.h"
 #include "lava/checkpoint.h"
 #include "lava/lava.h"
 #include "options.h"
@@ -67,6 +68,16 @@ class SimulateCommand final : public Command {
                  [this](const std::string& src, const std::string& t) {
                    every_ = parseInteger(src, t, 1, 1000000000);
                  });
+    options_.add("series",
+                 "also write the state every --every steps as a VTK time series for ParaView: "
+                 "DIR/step_*.vtp and DIR.pvd beside the folder (created if missing)",
+                 [this](const std::string& src, const std::string& t) {
+                   series_ = seriesFolder(src, t);
+                 });
+    options_.add("every", "with --series: the steps between samples, 1..1e9",
+                 [this](const std::string& src, const std::string& t) {
+                   seriesEvery_ = parseInteger(src, t, 1, 1000000000);
+                 });
     options_.add("resume",
                  "continue the run a checkpoint FILE.npz holds: its scene (scene flags may "
                  "change its parameters, not its emitters or their capacities) and state; "
@@ -80,6 +91,9 @@ class SimulateCommand final : public Command {
     options_.resolve();
     if (every_ && checkpoint_.empty())
       throw UsageError("--checkpoint-every: needs --checkpoint FILE.npz");
+    if (!series_.empty() && !seriesEvery_)
+      throw UsageError("--series: needs --every K, the steps between samples (1..1e9)");
+    if (seriesEvery_ && series_.empty()) throw UsageError("--every: needs --series DIR");
     if (resumed) checkResumedScene(scene_, resumed->scene);
     std::unique_ptr<Device> device;
     std::unique_ptr<Simulation> simulation;
@@ -92,43 +106,26 @@ class SimulateCommand final : public Command {
       simulation = std::make_unique<CpuSimulation>(scene_, threads, kernel_);
     }
     if (resumed) simulation->setState(resumed->state);
+    std::optional<host::SeriesWriter> series;
+    if (!series_.empty())
+      series.emplace(openSeries(resumed ? resumed->state.step : 0, resumed.has_value()));
     interrupted = 0;
     using Handler = void (*)(int);
     Handler previousInt = SIG_DFL, previousTerm = SIG_DFL;  // the program's: say and exit
-    if (!checkpoint_.empty()) {  // instead: the checkpoint at the next step boundary
+    const bool stopAtAStep = !checkpoint_.empty() || series;
+    if (stopAtAStep) {  // instead: the checkpoint at the next step boundary
       previousInt = std::signal(SIGINT, onStopSignal);
       previousTerm = std::signal(SIGTERM, onStopSignal);
     }
 
     const auto start = std::chrono::steady_clock::now();
-    // Batches of about 2^26 particle-steps (at least one step, at most 4096): a signal is
-    // answered within a fraction of a second, at a step boundary.
-    const uint64_t batchSteps = std::clamp<uint64_t>(
-        (uint64_t{1} << 26) / std::max<uint64_t>(scene_.particles(), 1), 1, 4096);
-    uint64_t done = 0;
-    {
-      Progress progress("simulate", steps_);
-      while (done < steps_ && !interrupted) {
-        uint64_t batch = std::min<uint64_t>(steps_ - done, batchSteps);
-        if (every_) batch = std::min<uint64_t>(batch, every_ - done % every_);
-        simulation->advance(batch);
-        done += batch;
-        progress.update(done);
-        if (every_ && done % every_ == 0 && done < steps_) saveCheckpoint(*simulation);
-      }
-    }
-    if (!checkpoint_.empty()) {
+    const uint64_t done = advance(*simulation, series ? &*series : nullptr);
+    if (stopAtAStep) {
       std::signal(SIGINT, previousInt);
       std::signal(SIGTERM, previousTerm);
     }
     if (interrupted) {
-      const State state = saveCheckpoint(*simulation);
-      std::printf(
-          "simulate: interrupted by %s after %llu of %llu steps (step %llu of the run); wrote "
-          "%s: continue with lava simulate --resume %s --steps %llu\n",
-          interrupted == SIGINT ? "SIGINT" : "SIGTERM", static_cast<unsigned long long>(done),
-          static_cast<unsigned long long>(steps_), static_cast<unsigned long long>(state.step),
-          checkpoint_.c_str(), checkpoint_.c_str(), static_cast<unsigned long long>(steps_ - done));
+      reportInterrupt(*simulation, done, series ? &*series : nullptr);
       const int status = interrupted == SIGINT ? 130 : 143;
       return device ? finish(*device, status) : status;
     }
@@ -156,10 +153,73 @@ class SimulateCommand final : public Command {
     if (!checkpoint_.empty())
       std::printf("simulate: checkpoint at step %llu in %s\n",
                   static_cast<unsigned long long>(state.step), checkpoint_.c_str());
+    if (series)
+      std::printf("simulate: series of %zu samples in %s\n", series->samples(),
+                  series->collection().c_str());
     return device ? finish(*device, 0) : 0;
   }
 
  private:
+  // --steps steps, or fewer when a signal stops the run at a step boundary; the steps done.
+  uint64_t advance(Simulation& simulation, host::SeriesWriter* series) {
+    // Batches of about 2^26 particle-steps (at least one step, at most 4096): a signal is
+    // answered within a fraction of a second, at a step boundary.
+    const uint64_t batchSteps = std::clamp<uint64_t>(
+        (uint64_t{1} << 26) / std::max<uint64_t>(scene_.particles(), 1), 1, 4096);
+    const uint64_t first = simulation.state().step;
+    if (series && series->due(first)) writeSample(*series, simulation.state());
+    uint64_t done = 0;
+    Progress progress("simulate", steps_);
+    while (done < steps_ && !interrupted) {
+      uint64_t batch = std::min<uint64_t>(steps_ - done, batchSteps);
+      if (every_) batch = std::min<uint64_t>(batch, every_ - done % every_);
+      if (series) batch = std::min<uint64_t>(batch, seriesEvery_ - (first + done) % seriesEvery_);
+      simulation.advance(batch);
+      done += batch;
+      progress.update(done);
+      if (every_ && done % every_ == 0 && done < steps_) saveCheckpoint(simulation);
+      if (series && series->due(first + done)) writeSample(*series, simulation.state());
+    }
+    return done;
+  }
+
+  void reportInterrupt(Simulation& simulation, uint64_t done, const host::SeriesWriter* series) {
+    const char* signal = interrupted == SIGINT ? "SIGINT" : "SIGTERM";
+    const auto left = static_cast<unsigned long long>(steps_ - done);
+    if (checkpoint_.empty()) {
+      std::printf("simulate: interrupted by %s after %llu of %llu steps; %s names the %zu "
+                  "samples written (without --checkpoint the run cannot be resumed)\n",
+                  signal, static_cast<unsigned long long>(done),
+                  static_cast<unsigned long long>(steps_), series->collection().c_str(),
+                  series->samples());
+      return;
+    }
+    const State state = saveCheckpoint(simulation);
+    std::printf(
+        "simulate: interrupted by %s after %llu of %llu steps (step %llu of the run); wrote "
+        "%s: continue with lava simulate --resume %s --steps %llu%s\n",
+        signal, static_cast<unsigned long long>(done), static_cast<unsigned long long>(steps_),
+        static_cast<unsigned long long>(state.step), checkpoint_.c_str(), checkpoint_.c_str(),
+        left, series ? (" --series " + series_ + " --every " + std::to_string(seriesEvery_)).c_str()
+                     : "");
+  }
+
+  host::SeriesWriter openSeries(uint64_t firstStep, bool resumed) const {
+    try {
+      return host::SeriesWriter(series_, seriesEvery_, firstStep, resumed);
+    } catch (const std::exception& e) {
+      throw UsageError("--series: " + std::string(e.what()));
+    }
+  }
+
+  void writeSample(host::SeriesWriter& series, const State& state) const {
+    try {
+      series.write(scene_, state);
+    } catch (const ResourceError& e) {
+      throw UsageError("--series: " + std::string(e.what()));
+    }
+  }
+
   // The state now, written to --checkpoint.
   State saveCheckpoint(Simulation& simulation) const {
     State state = simulation.state();
@@ -181,6 +241,8 @@ class SimulateCommand final : public Command {
   std::string out_;
   std::string checkpoint_;
   uint64_t every_ = 0;
+  std::string series_;
+  uint64_t seriesEvery_ = 0;
 };
 
 }  // namespace
