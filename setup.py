@@ -11,6 +11,7 @@ import sys
 
 from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
+from setuptools.command.build_py import build_py
 
 ROOT = pathlib.Path(__file__).resolve().parent
 
@@ -43,6 +44,19 @@ class CMakeBuild(build_ext):
         shutil.copyfile(built, target)
 
 
+class BuildPy(build_py):
+    """The package's Python files, and the presets (scenes/*.toml, scenes/modules/*.toml)
+    into lava/scenes: lava.Scene("volcano") finds them from any folder."""
+
+    def run(self):
+        super().run()
+        target = pathlib.Path(self.build_lib) / "lava" / "scenes"
+        for scene in list((ROOT / "scenes").glob("*.toml")) + list((ROOT / "scenes").glob("modules/*.toml")):
+            destination = target / scene.relative_to(ROOT / "scenes")
+            destination.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(scene, destination)
+
+
 def requirements():
     """numpy, unless this python3 has none: another python3 of Debian's version (pyenv's,
     say), whose package then uses Debian's python3-numpy (lava/__init__.py)."""
@@ -65,6 +79,6 @@ def wheel_command():
 
 setup(ext_modules=[Extension("lava._lava", sources=[])],
       install_requires=requirements(),
-      cmdclass={"build_ext": CMakeBuild, "bdist_wheel": wheel_command()},
+      cmdclass={"build_ext": CMakeBuild, "build_py": BuildPy, "bdist_wheel": wheel_command()},
       # setuptools' own build tree, apart from CMake's files in build/.
       options={"build": {"build_base": "build/python-package"}})

@@ -18,6 +18,7 @@
 
 #include "common/npy.h"
 #include "host/frame_renderer.h"
+#include "host/series.h"
 #include "lava/checkpoint.h"
 #include "lava/lava.h"
 #include "lava/scene_keys.h"
@@ -73,23 +74,133 @@ std::string pythonName(const std::string& key) {
   return name;
 }
 
-// A Python value as the text scene keys read.
-std::string keyText(const std::string& name, const py::handle& value) {
-  if (py::isinstance<py::bool_>(value))
-    throw py::value_error(name + ": expected a number or a name, got a bool");
+// A keyword of the wrong type: lava.ArgumentTypeError, both a TypeError and a ValueError
+// (bad input was a ValueError before types were told apart), its message naming the keyword.
+PyObject* argumentTypeError = nullptr;
+
+[[noreturn]] void wrongType(const std::string& name, const std::string& expected,
+                            const py::handle& value) {
+  const std::string got =
+      std::string(Py_TYPE(value.ptr())->tp_name) + " " + py::repr(value).cast<std::string>();
+  PyErr_SetString(argumentTypeError, (name + ": expected " + expected + ", got " + got).c_str());
+  throw py::error_already_set();
+}
+
+bool isNumber(const py::handle& value) {
+  return !py::isinstance<py::bool_>(value) && !py::isinstance<py::str>(value) &&
+         PyNumber_Check(value.ptr()) && !py::hasattr(value, "__len__");
+}
+
+// An integer keyword (a Python or numpy integer, not a bool) in [lo, hi].
+uint64_t integerArg(const std::string& name, const py::handle& value, uint64_t lo, uint64_t hi) {
+  if (py::isinstance<py::bool_>(value) || !PyIndex_Check(value.ptr()))
+    wrongType(name, "an integer", value);
+  const py::object index = py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr()));
+  const unsigned long long v = PyLong_AsUnsignedLongLong(index.ptr());
+  const bool overflow = PyErr_Occurred() != nullptr;
+  PyErr_Clear();
+  if (overflow || v < lo || v > hi)
+    throw py::value_error(name + ": expected " + std::to_string(lo) + " to " + std::to_string(hi) +
+                          ", got " + py::repr(value).cast<std::string>());
+  return v;
+}
+
+std::string textArg(const std::string& name, const py::handle& value) {
+  if (!py::isinstance<py::str>(value)) wrongType(name, "a str", value);
+  return value.cast<std::string>();
+}
+
+// A file's path: a str or an os.PathLike.
+std::string pathArg(const std::string& name, const py::handle& value) {
   if (py::isinstance<py::str>(value)) return value.cast<std::string>();
-  if (py::isinstance<py::int_>(value)) return py::str(value).cast<std::string>();
-  if (py::isinstance<py::float_>(value)) return py::repr(value).cast<std::string>();
-  if (py::isinstance<py::sequence>(value) || py::hasattr(value, "__len__")) {
-    std::string joined;
-    for (const py::handle& item : value) {
-      const py::object number = py::reinterpret_borrow<py::object>(item);
-      const py::object asFloat = py::float_(number);
-      joined += (joined.empty() ? "" : ",") + py::repr(asFloat).cast<std::string>();
-    }
-    return joined;
+  if (py::hasattr(value, "__fspath__")) {
+    const py::object path = value.attr("__fspath__")();
+    if (py::isinstance<py::str>(path)) return path.cast<std::string>();
   }
-  throw py::value_error(name + ": expected a number, a name or a sequence of 3 numbers");
+  wrongType(name, "a path (str or os.PathLike)", value);
+}
+
+// A sequence of numbers as "x,y,z" (each as Python's repr of the float).
+std::string joinedNumbers(const std::string& name, const py::handle& value) {
+  std::string joined;
+  for (const py::handle& item : value) {
+    if (!isNumber(item)) wrongType(name, "a sequence of numbers", value);
+    joined += (joined.empty() ? "" : ",") + py::repr(py::float_(py::reinterpret_borrow<py::object>(item))).cast<std::string>();
+  }
+  return joined;
+}
+
+// A Python value as the text a scene key of `kind` reads: the program's own text (a str),
+// or a value of the key's type. Wrong types raise ArgumentTypeError naming the key.
+std::string keyText(const std::string& name, const py::handle& value,
+                    std::optional<lava::KeyKind> kind) {
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  switch (kind.value_or(lava::KeyKind::Number)) {
+    case lava::KeyKind::Vector:
+      if (isNumber(value) || !py::hasattr(value, "__iter__"))
+        wrongType(name, "a sequence of 3 numbers or 'x,y,z'", value);
+      return joinedNumbers(name, value);
+    case lava::KeyKind::Flag:
+      if (!py::isinstance<py::bool_>(value)) wrongType(name, "a bool", value);
+      return value.cast<bool>() ? "true" : "false";
+    case lava::KeyKind::Name:
+      wrongType(name, "a str", value);
+    case lava::KeyKind::Integer:
+    case lava::KeyKind::Number:
+      break;
+  }
+  if (!isNumber(value)) wrongType(name, "a number", value);
+  if (PyIndex_Check(value.ptr()))
+    return py::str(py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr())))
+        .cast<std::string>();
+  return py::repr(py::float_(py::reinterpret_borrow<py::object>(value))).cast<std::string>();
+}
+
+// The kind of scene key `flag` in `table`, when it is one.
+std::optional<lava::KeyKind> keyKind(lava::KeyTable table, const std::string& flag) {
+  for (const lava::SceneKey& k : lava::sceneKeys(table))
+    if (k.name == flag) return k.kind;
+  return std::nullopt;
+}
+
+// The presets the package ships (lava/scenes/*.toml, the module scenes in scenes/modules).
+std::string presetFolder() {
+  const std::string init = py::module_::import("lava").attr("__file__").cast<std::string>();
+  return init.substr(0, init.find_last_of('/')) + "/scenes";
+}
+
+bool isFile(const std::string& path) {
+  return py::module_::import("os.path").attr("isfile")(path).cast<bool>();
+}
+
+// `value` as a scene: a lava.Scene, a TOML file's path, or a preset's name ("volcano").
+lava::Scene sceneArg(const std::string& name, const py::handle& value) {
+  if (py::isinstance<lava::Scene>(value)) return value.cast<lava::Scene>();
+  if (!py::isinstance<py::str>(value) && !py::hasattr(value, "__fspath__"))
+    wrongType(name, "a lava.Scene, a preset's name or a TOML file's path", value);
+  std::string path = pathArg(name, value);
+  if (!isFile(path) && path.find('/') == std::string::npos) {
+    const std::string stem = path.size() > 5 && path.compare(path.size() - 5, 5, ".toml") == 0
+                                 ? path.substr(0, path.size() - 5)
+                                 : path;
+    for (const std::string& folder : {presetFolder(), presetFolder() + "/modules"})
+      if (isFile(folder + "/" + stem + ".toml")) {
+        path = folder + "/" + stem + ".toml";
+        break;
+      }
+    if (!isFile(path)) {
+      const py::list names = py::module_::import("lava").attr("presets")();
+      throw py::value_error(name + ": '" + path + "' is no file and no preset (presets: " +
+                            py::str(", ").attr("join")(names).cast<std::string>() + ")");
+    }
+  }
+  try {
+    return lava::loadScene(path, [](const std::string& key, const std::string&) {
+      return kProgramKeys.count(key) > 0;
+    });
+  } catch (const lava::InvalidArgument& e) {
+    throw py::value_error(name + ": " + e.what());
+  }
 }
 
 struct Options {
@@ -101,36 +212,26 @@ struct Options {
 
 // The scene file (if any), then each keyword: scene keys, device, threads, tolerance_ulp.
 Options options(const py::object& scenePath, const py::kwargs& params,
-                std::set<std::string> extra = {}, std::set<std::string> skip = {}) {
+                std::set<std::string> extra = {}, std::set<std::string> skip = {},
+                const std::string& sceneName = "scene") {
   Options o;
-  if (py::isinstance<lava::Scene>(scenePath)) {
-    o.scene = scenePath.cast<lava::Scene>();
-  } else if (!scenePath.is_none()) {
-    const std::string path = py::str(scenePath).cast<std::string>();
-    try {
-      o.scene = lava::loadScene(path, [](const std::string& key, const std::string&) {
-        return kProgramKeys.count(key) > 0;
-      });
-    } catch (const lava::InvalidArgument& e) {
-      throw py::value_error(std::string("scene: ") + e.what());
-    }
-  }
+  if (!scenePath.is_none()) o.scene = sceneArg(sceneName, scenePath);
   for (const auto& [key, value] : params) {
     const std::string name = key.cast<std::string>();
     if (skip.count(name)) continue;  // the caller's own keywords
     std::string flag = name;
     std::replace(flag.begin(), flag.end(), '_', '-');
     if (name == "device") {
-      o.device = value.cast<unsigned>();
+      o.device = unsigned(integerArg(name, value, 0, 255));
     } else if (name == "threads") {
-      const int threads = value.cast<int>();
-      if (threads < 0 || threads > 1024) throw py::value_error("threads: expected 0 to 1024");
-      o.threads = threads ? unsigned(threads) : std::max(1u, std::thread::hardware_concurrency());
+      const auto threads = unsigned(integerArg(name, value, 0, 1024));
+      o.threads = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
     } else if (name == "tolerance_ulp" && extra.count(name)) {
-      o.toleranceUlp = value.cast<uint32_t>();
+      o.toleranceUlp = uint32_t(integerArg(name, value, 0, UINT32_MAX));
     } else {
       try {
-        lava::setSceneKey(o.scene, lava::KeyTable::Top, 0, flag, keyText(name, value));
+        lava::setSceneKey(o.scene, lava::KeyTable::Top, 0, flag,
+                          keyText(name, value, keyKind(lava::KeyTable::Top, flag)));
       } catch (const lava::InvalidArgument& e) {
         if (e.detail().rfind("unknown key", 0) == 0) {
           std::string accepted;
@@ -199,16 +300,49 @@ uint64_t stepOf(lava::Simulation& sim) {
   return static_cast<lava::GpuSimulation&>(sim).step();
 }
 
+// Runs `steps` steps writing a sample every `every` steps into `folder`, as `lava simulate
+// --series` does (docs/cli.md, "Series"): from step 0 a new series; from a later step the
+// series in `folder` continued, its samples before this step kept.
+void advanceWithSeries(lava::Simulation& sim, const std::string& folder, uint64_t steps,
+                       uint64_t every) {
+  const uint64_t first = stepOf(sim);
+  lava::host::SeriesWriter series(folder, every, first, first > 0);
+  if (series.due(first)) series.write(sim.scene(), sim.state());
+  for (uint64_t done = 0; done < steps;) {
+    const uint64_t batch = std::min(steps - done, every - (first + done) % every);
+    advanceInterruptibly(sim, batch);
+    done += batch;
+    if (series.due(first + done)) series.write(sim.scene(), sim.state());
+  }
+}
+
+// series= and every= of simulate(): both or neither.
+std::optional<std::pair<std::string, uint64_t>> seriesArgs(const py::object& series,
+                                                           const py::object& every) {
+  if (series.is_none() && every.is_none()) return std::nullopt;
+  if (every.is_none()) throw py::value_error("every: series= needs every=K, the steps between samples");
+  const uint64_t k = integerArg("every", every, 1, 1000000000);
+  if (series.is_none()) throw py::value_error("every: needs series=FOLDER");
+  return std::make_pair(pathArg("series", series), k);
+}
+
 // A running simulation for scripts: advance it, look at it, save and resume it.
 class Simulation {
  public:
-  Simulation(const py::object& scene, const std::string& backend, const py::kwargs& params)
-      : options_(options(scene, params)), backend_(backend), sim_(make(backend, options_)) {}
+  Simulation(const py::object& scene, const py::object& backend, const py::kwargs& params)
+      : options_(options(scene, params)),
+        backend_(textArg("backend", backend)),
+        sim_(make(backend_, options_)) {}
   Simulation(Options o, const std::string& backend)
       : options_(std::move(o)), backend_(backend), sim_(make(backend, options_)) {}
 
-  void advance(uint64_t steps) {
-    advanceInterruptibly(*sim_, steps);
+  void advance(const py::object& steps) {
+    advanceInterruptibly(*sim_, integerArg("steps", steps, 0, uint64_t{1} << 40));
+    validated();
+  }
+  void writeSeries(const py::object& folder, const py::object& steps, const py::object& every) {
+    advanceWithSeries(*sim_, pathArg("folder", folder), integerArg("steps", steps, 0, uint64_t{1} << 40),
+                      integerArg("every", every, 1, 1000000000));
     validated();
   }
   py::array_t<float> state() {
@@ -217,7 +351,16 @@ class Simulation {
     return columns(state);
   }
   // Raw slots (particles, 8), as `particles` gives them; step and clocks stay.
-  void setState(const py::array_t<float, py::array::c_style | py::array::forcecast>& raw) {
+  void setState(const py::object& particles) {
+    using Floats = py::array_t<float, py::array::c_style | py::array::forcecast>;
+    if (isNumber(particles) || py::isinstance<py::str>(particles) ||
+        !py::hasattr(particles, "__len__"))
+      wrongType("particles", "a float32 array (particles, 8)", particles);
+    const Floats raw = Floats::ensure(particles);
+    if (!raw) {
+      PyErr_Clear();
+      wrongType("particles", "a float32 array (particles, 8)", particles);
+    }
     lava::State state = sim_->state();
     if (raw.ndim() != 2 || raw.shape(1) != 8 || size_t(raw.shape(0)) != state.particles.size())
       throw py::value_error("particles: expected float32 (" +
@@ -226,9 +369,10 @@ class Simulation {
     sim_->setState(state);
     validated();
   }
-  void checkpoint(const std::string& path) {
+  void checkpoint(const py::object& path) {
+    const std::string file = pathArg("path", path);
     const lava::State state = sim_->state();
-    lava::writeCheckpoint(path, sim_->scene(), state);
+    lava::writeCheckpoint(file, sim_->scene(), state);
     validated();
   }
   uint64_t step() { return stepOf(*sim_); }
@@ -265,10 +409,7 @@ double numberIn(const py::kwargs& params, const char* name, double fallback, dou
                 double high, bool openLow = false) {
   if (!params.contains(name)) return fallback;
   const py::object given = params[name];
-  if (py::isinstance<py::bool_>(given) ||
-      !(py::isinstance<py::int_>(given) || py::isinstance<py::float_>(given)))
-    throw py::value_error(std::string(name) + ": expected a number, got " +
-                          py::repr(given).cast<std::string>());
+  if (!isNumber(given)) wrongType(name, "a number", given);
   const double value = given.cast<double>();
   if (!(value >= low && value <= high) || (openLow && value == low))
     throw py::value_error(std::string(name) + ": expected " + (openLow ? "(" : "[") +
@@ -281,10 +422,26 @@ double numberIn(const py::kwargs& params, const char* name, double fallback, dou
 // A keyword of render() that names a choice; ValueError naming it unless it is a str.
 std::string textIn(const py::kwargs& params, const char* name, const std::string& fallback) {
   if (!params.contains(name)) return fallback;
-  if (!py::isinstance<py::str>(params[name]))
-    throw py::value_error(std::string(name) + ": expected a str, got " +
-                          py::repr(params[name]).cast<std::string>());
-  return params[name].cast<std::string>();
+  return textArg(name, params[name]);
+}
+
+// size=(width, height) or "WxH", as the program's --size; the device's limit is checked after.
+std::vector<int64_t> sizeArg(const py::handle& value) {
+  if (py::isinstance<py::str>(value)) {
+    const std::string text = value.cast<std::string>();
+    const size_t x = text.find('x');
+    const auto digits = [](const std::string& t) {
+      return !t.empty() && t.size() <= 6 && t.find_first_not_of("0123456789") == std::string::npos;
+    };
+    if (x == std::string::npos || !digits(text.substr(0, x)) || !digits(text.substr(x + 1)))
+      throw py::value_error("size: expected (width, height) or 'WxH', got '" + text + "'");
+    return {std::stoll(text.substr(0, x)), std::stoll(text.substr(x + 1))};
+  }
+  if (isNumber(value) || !py::hasattr(value, "__len__") || py::len(value) != 2)
+    wrongType("size", "(width, height) or 'WxH'", value);
+  std::vector<int64_t> sides;
+  for (const py::handle& side : value) sides.push_back(int64_t(integerArg("size", side, 0, 1u << 20)));
+  return sides;
 }
 
 // The scene's keys, set from keywords; ValueError naming a bad one.
@@ -294,7 +451,8 @@ void setKeys(lava::Scene& scene, const py::kwargs& keys) {
     std::string flag = name;
     std::replace(flag.begin(), flag.end(), '_', '-');
     try {
-      lava::setSceneKey(scene, lava::KeyTable::Top, 0, flag, keyText(name, value));
+      lava::setSceneKey(scene, lava::KeyTable::Top, 0, flag,
+                        keyText(name, value, keyKind(lava::KeyTable::Top, flag)));
     } catch (const lava::InvalidArgument& e) {
       throw py::value_error(name + ": " + e.detail());
     }
@@ -314,6 +472,12 @@ PYBIND11_MODULE(_lava, m) {
       .attr("__doc__") = "Something ran out or is missing: memory, a device, a file.";
   py::register_exception<lava::VulkanError>(m, "VulkanError", error.ptr())
       .attr("__doc__") = "A Vulkan call failed; the message names it and its VkResult.";
+  argumentTypeError = PyErr_NewExceptionWithDoc(
+      "lava._lava.ArgumentTypeError",
+      "A keyword of the wrong type; its message names it. Both a TypeError and a ValueError.",
+      py::make_tuple(py::handle(PyExc_TypeError), py::handle(PyExc_ValueError)).release().ptr(),
+      nullptr);
+  m.attr("ArgumentTypeError") = py::handle(argumentTypeError);
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -328,7 +492,7 @@ Scene(path=None, **keys) loads a TOML scene file (format 1 or 2) and sets keys g
 keywords, the command line's flags with '-' written '_' (rate=4000, emitter_radius=0.2).
 str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)")
       .def(py::init([](const py::object& path, const py::kwargs& keys) {
-             lava::Scene scene = options(path, py::kwargs()).scene;
+             lava::Scene scene = options(path, py::kwargs(), {}, {}, "path").scene;
              setKeys(scene, keys);
              lava::checkScene(scene);
              return scene;
@@ -370,7 +534,8 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
             std::replace(flag.begin(), flag.end(), '_', '-');
             lava::Scene edited = scene;
             try {
-              lava::setSceneKey(edited, found->second, index, flag, keyText(key, value));
+              lava::setSceneKey(edited, found->second, index, flag,
+                                keyText(key, value, keyKind(found->second, flag)));
               lava::checkScene(edited);
             } catch (const lava::InvalidArgument& e) {
               throw py::value_error(e.what());
@@ -418,7 +583,8 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
               if (k.name == key) {
                 lava::Scene edited = scene;
                 try {
-                  lava::setSceneKey(edited, lava::KeyTable::Top, 0, key, keyText(name, value));
+                  lava::setSceneKey(edited, lava::KeyTable::Top, 0, key,
+                                    keyText(name, value, k.kind));
                   lava::checkScene(edited);
                 } catch (const lava::InvalidArgument& e) {
                   throw py::value_error(e.what());
@@ -443,37 +609,45 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
 
   m.def(
       "simulate",
-      [](uint64_t steps, const std::string& backend, const py::object& scene,
-         const py::kwargs& params) {
+      [](const py::object& steps, const py::object& backend, const py::object& scene,
+         const py::object& series, const py::object& every, const py::kwargs& params) {
+        const uint64_t n = integerArg("steps", steps, 0, 1000000000);
+        const std::string on = textArg("backend", backend);
+        const auto sampled = seriesArgs(series, every);
         const Options o = options(scene, params);
-        std::unique_ptr<lava::Simulation> sim = make(backend, o);
-        advanceInterruptibly(*sim, steps);
+        std::unique_ptr<lava::Simulation> sim = make(on, o);
+        if (sampled)
+          advanceWithSeries(*sim, sampled->first, n, sampled->second);
+        else
+          advanceInterruptibly(*sim, n);
         lava::State state;
         {
           py::gil_scoped_release release;
           state = sim->state();
         }
-        if (backend == "gpu") raiseOnValidation(device(o.device));
+        if (on == "gpu") raiseOnValidation(device(o.device));
         return columns(state);
       },
       py::arg("steps"), py::arg("backend") = "gpu", py::arg("scene") = py::none(),
+      py::arg("series") = py::none(), py::arg("every") = py::none(),
       "Runs the scene for `steps` steps on the GPU (backend='gpu'), the CPU reference\n"
       "('cpu') or its SIMD twin ('cpu-simd', the same bytes) and returns the final state:\n"
       "float32, shape (particles, 7), columns px py pz vx vy vz age (age -1: not alive),\n"
       "and an 8th, temperature (K), for a scene with a [flow] table.\n"
       "`scene`: a lava.Scene or a TOML scene file; keywords are the command line's flags\n"
       "with '-' written '_' (emitter_radius=0.2), plus device=N and threads=N (CPU). Bad\n"
-      "values raise ValueError naming the parameter; Ctrl-C interrupts between batches.");
+      "values raise ValueError naming the parameter; Ctrl-C interrupts between batches.\n"
+      "series=FOLDER, every=K also write the state every K steps as a VTK time series for\n"
+      "ParaView, as `lava simulate --series FOLDER --every K` (FOLDER.pvd beside it).");
 
   m.def(
       "validate",
-      [](uint64_t steps, const py::object& every, const py::object& scene,
+      [](const py::object& stepsArg, const py::object& every, const py::object& scene,
          const py::kwargs& params) {
+        const uint64_t steps = integerArg("steps", stepsArg, 1, 1000000000);
+        const uint64_t k = every.is_none() ? std::max<uint64_t>(1, steps / 10)
+                                           : integerArg("every", every, 1, 1000000000);
         const Options o = options(scene, params, {"tolerance_ulp"});
-        if (steps == 0) throw py::value_error("steps: expected at least 1");
-        const uint64_t k =
-            every.is_none() ? std::max<uint64_t>(1, steps / 10) : every.cast<uint64_t>();
-        if (k == 0) throw py::value_error("every: expected at least 1");
         lava::GpuSimulation gpu(device(o.device), o.scene);
         lava::CpuSimulation cpu(o.scene, std::max(1u, std::thread::hardware_concurrency()));
         lava::ValidationReport report;
@@ -513,21 +687,21 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
 
   m.def(
       "render",
-      [](const py::object& scene, uint32_t frames, const py::object& size, const py::kwargs& all) {
+      [](const py::object& scene, const py::object& framesArg, const py::object& size,
+         const py::kwargs& all) {
         static const std::set<std::string> own = {"fps", "warmup", "renderer", "look",
                                                   "exposure", "bloom", "bloom_threshold"};
         const Options o = options(scene, all, {}, own);
-        if (frames < 1 || frames > 100000)
-          throw py::value_error("frames: expected 1 to 100000, got " + std::to_string(frames));
         lava::host::FrameRun run;
-        run.frames = frames;
-        const auto sides = size.cast<std::vector<int64_t>>();
+        run.frames = uint32_t(integerArg("frames", framesArg, 1, 100000));
+        const std::vector<int64_t> sides = sizeArg(size);
         lava::Device& d = device(o.device);
         const int64_t limit = d.limits().maxImageDimension2D;
         if (sides.size() != 2 || sides[0] < 1 || sides[1] < 1 || sides[0] > limit ||
             sides[1] > limit)
-          throw py::value_error("size: expected (width, height), each 1 to " +
-                                std::to_string(limit) + " on this device");
+          throw py::value_error("size: expected (width, height) or 'WxH', each 1 to " +
+                                std::to_string(limit) + " on this device, got " +
+                                py::repr(size).cast<std::string>());
         run.size = {uint32_t(sides[0]), uint32_t(sides[1])};
         run.fps = numberIn(all, "fps", 30.0, 0.0, 1000.0, true);
         run.warmup = numberIn(all, "warmup", 3.0, 0.0, 600.0);
@@ -568,7 +742,7 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
       py::arg("size") = py::make_tuple(1280, 720),
       "Renders `frames` frames of the scene, as `lava render` does, and returns them as a\n"
       "list of uint8 arrays of shape (height, width, 3), equal pixel for pixel to its PNGs\n"
-      "with the same arguments. size=(width, height); keywords: fps (30), warmup (3 s),\n"
+      "with the same arguments. size=(width, height) or 'WxH'; keywords: fps (30), warmup (3 s),\n"
       "renderer ('lines' or 'splat'; splat from 16384 particles), look ('lava' or\n"
       "'plain'), exposure, bloom, bloom_threshold, device, and the scene's keys.");
 
@@ -576,11 +750,13 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
                          "A simulation to advance step by step: Simulation(scene=None,\n"
                          "backend='gpu', **keys), `scene` a lava.Scene or a TOML path, the\n"
                          "keywords those of simulate().")
-      .def(py::init<const py::object&, const std::string&, const py::kwargs&>(),
+      .def(py::init<const py::object&, const py::object&, const py::kwargs&>(),
            py::arg("scene") = py::none(), py::arg("backend") = "gpu")
       .def_static(
           "resume",
-          [](const std::string& path, const std::string& backend, const py::kwargs& params) {
+          [](const py::object& pathArg_, const py::object& backendArg, const py::kwargs& params) {
+            const std::string path = pathArg("path", pathArg_);
+            const std::string backend = textArg("backend", backendArg);
             for (const auto& [key, value] : params) {
               const std::string name = key.cast<std::string>();
               if (name != "device" && name != "threads")
@@ -599,6 +775,12 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
           "on any backend: it goes on bit for bit. Keywords: device, threads.")
       .def("advance", &Simulation::advance, py::arg("steps"),
            "Runs `steps` steps (Ctrl-C interrupts between batches, at a whole step).")
+      .def("write_series", &Simulation::writeSeries, py::arg("folder"), py::arg("steps"),
+           py::arg("every"),
+           "Runs `steps` steps writing the state every `every` steps as a VTK time series\n"
+           "for ParaView, as `lava simulate --series folder --every K`: folder/step_*.vtp and\n"
+           "folder.pvd beside it. From step 0 a new series; from a later step (a resumed\n"
+           "simulation, or one advanced before) the series in `folder` continued.")
       .def("state", &Simulation::state,
            "The state as simulate() returns it (a copy): float32 (particles, 7).")
       .def("set_state", &Simulation::setState, py::arg("particles"),

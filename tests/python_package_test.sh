@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The Python package as users install it: `pip install --no-build-isolation .` into a fresh
 # venv (Debian's python3, its numpy from the system), imported from another folder with no
-# PYTHONPATH or LD_LIBRARY_PATH, the Python tests run against it; then a wheel built with
+# PYTHONPATH or LD_LIBRARY_PATH, the Python tests and docs/python_example.py run against it
+# (the presets found by name); then a wheel built with
 # python3-build installs into another fresh venv and runs.
 set -euo pipefail
 build=$1   # this checkout's configured build, reused by setup.py
@@ -23,6 +24,13 @@ esac
 shape=$("$work/venv/bin/python" -c "import lava; print(lava.simulate(100).shape)")
 [ "$shape" = "(5000, 7)" ] || { echo "FAIL: lava.simulate(100).shape is $shape"; exit 1; }
 LAVA_EXE=$lava "$work/venv/bin/python" -m pytest -q -p no:cacheprovider "$source/tests/python"
+# The presets by name and docs/python_example.py, from a folder outside the repository.
+"$work/venv/bin/python" -c "import lava; assert lava.Scene('volcano').particles == 36000"
+mkdir "$work/example"
+"$work/venv/bin/python" "$source/docs/python_example.py" "$work/example"
+for picture in python-render.png python-trajectory.png python-flow.png; do
+  [ -s "$work/example/$picture" ] || { echo "FAIL: the example wrote no $picture"; exit 1; }
+done
 
 (cd "$source" && /usr/bin/python3 -m build --no-isolation --wheel --outdir "$work/dist" . \
    > "$work/build.log" 2>&1) || { cat "$work/build.log"; echo "FAIL: no wheel"; exit 1; }
@@ -32,5 +40,6 @@ LAVA_EXE=$lava "$work/venv/bin/python" -m pytest -q -p no:cacheprovider "$source
 import importlib.metadata, lava
 assert lava.__version__ == importlib.metadata.version('lava'), lava.__version__
 assert lava.render(frames=1, size=(32, 18), warmup=0.1)[0].shape == (18, 32, 3)
+assert lava.Scene('eruption') == lava.Scene.from_toml(lava.Scene('eruption').to_toml())
 print('wheel: lava', lava.__version__, 'from', lava.__file__)"
 echo PASS

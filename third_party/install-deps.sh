@@ -11,7 +11,7 @@ packages=(
   libglfw3-dev libx11-dev libxext-dev libglm-dev libgtest-dev
   libcli11-dev libtomlplusplus-dev libstb-dev libimgui-dev libhwy-dev
   python3 python3-dev pybind11-dev python3-numpy python3-pytest
-  python3-venv python3-pip python3-setuptools python3-wheel python3-build
+  python3-vtk9 python3-matplotlib python3-venv python3-pip python3-setuptools python3-wheel python3-build
   xvfb xauth xdotool x11-apps x11-utils twm procps
 )
 

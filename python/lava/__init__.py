@@ -3,7 +3,7 @@
     import lava
     state = lava.simulate(3000, backend="gpu", emitter_radius=0.2)   # float32 (particles, 7)
     report = lava.validate(3000, every=500, integrator="velocity-verlet")
-    scene = lava.Scene("scenes/volcano.toml", rate=4000)
+    scene = lava.Scene("volcano", rate=4000)                          # a preset, or a file
     sim = lava.Simulation(scene, backend="cpu"); sim.advance(100); sim.checkpoint("run.npz")
     frames = lava.render(scene, frames=3, size=(640, 360))          # uint8 (360, 640, 3) each
 
@@ -19,8 +19,17 @@ except ImportError:  # another python3 of the same version on PATH: use Debian's
     sys.path.append("/usr/lib/python3/dist-packages")
     import numpy  # noqa: F401
 
-from ._lava import (Error, ResourceError, Scene, Simulation, VulkanError,  # noqa: F401
-                    __version__, render, simulate, validate)
+import os as _os
 
-__all__ = ["Error", "ResourceError", "Scene", "Simulation", "VulkanError", "__version__",
-           "render", "simulate", "validate"]
+from ._lava import (ArgumentTypeError, Error, ResourceError, Scene,  # noqa: F401
+                    Simulation, VulkanError, __version__, render, simulate, validate)
+
+__all__ = ["ArgumentTypeError", "Error", "ResourceError", "Scene", "Simulation", "VulkanError",
+           "__version__", "presets", "render", "simulate", "validate"]
+
+
+def presets():
+    """The names of the scenes the package ships (scenes/*.toml of the repository): each
+    loads with lava.Scene(name) or scene=name, from any folder."""
+    folder = _os.path.join(_os.path.dirname(__file__), "scenes")
+    return sorted(f[:-5] for f in _os.listdir(folder) if f.endswith(".toml"))

@@ -154,3 +154,100 @@ def test_a_flow_adds_the_temperature_column_and_its_checkpoint_arrays(tmp_path):
     # The GPU (the default) gives the same bytes, temperatures included.
     assert lava.Simulation(scene).backend == "gpu"
     assert np.array_equal(lava.simulate(300, scene=scene), state)
+
+
+def accepted_keywords():
+    """The scene's keywords and device, threads, as the unknown-parameter error lists them."""
+    with pytest.raises(ValueError) as error:
+        lava.simulate(1, backend="cpu", no_such_keyword=1)
+    listed = str(error.value).split("(accepted: ")[1].rstrip(")")
+    return listed.split(", ")
+
+
+class Opaque:
+    """A value of a type no keyword takes."""
+
+
+def raises_naming(name, call):
+    with pytest.raises((TypeError, ValueError)) as error:
+        call()
+    assert str(error.value).startswith(name + ":"), (name, str(error.value))
+
+
+def test_every_keyword_of_the_wrong_type_raises_an_error_naming_it(tmp_path):
+    keys = accepted_keywords()
+    assert {"particles", "velocity", "integrator", "device", "threads"} <= set(keys)
+    for name in keys:
+        raises_naming(name, lambda: lava.simulate(1, backend="cpu", **{name: Opaque()}))
+        raises_naming(name, lambda: lava.Simulation(backend="cpu", **{name: Opaque()}))
+        raises_naming(name, lambda: lava.render(frames=1, size=(8, 8), **{name: Opaque()}))
+    for name in ("fps", "warmup", "renderer", "look", "exposure", "bloom", "bloom_threshold",
+                 "frames", "size", "scene"):
+        raises_naming(name, lambda: lava.render(**{"frames": 1, "size": (8, 8), name: Opaque()}))
+    for name in ("steps", "backend", "scene", "every", "series"):
+        given = {"steps": 1, "backend": "cpu", "series": str(tmp_path / "s"), "every": 1}
+        raises_naming(name, lambda: lava.simulate(**{**given, name: Opaque()}))
+    for name in ("steps", "every", "scene", "tolerance_ulp"):
+        raises_naming(name, lambda: lava.validate(**{"steps": 2, name: Opaque()}))
+    raises_naming("scene", lambda: lava.Simulation(scene=Opaque()))
+    raises_naming("backend", lambda: lava.Simulation(backend=Opaque()))
+    sim = lava.Simulation(backend="cpu")
+    raises_naming("steps", lambda: sim.advance(Opaque()))
+    raises_naming("steps", lambda: sim.advance("10"))
+    raises_naming("path", lambda: sim.checkpoint(Opaque()))
+    raises_naming("particles", lambda: sim.set_state(Opaque()))
+    raises_naming("particles", lambda: sim.set_state("x"))
+    raises_naming("folder", lambda: sim.write_series(Opaque(), 1, 1))
+    raises_naming("steps", lambda: sim.write_series(str(tmp_path / "w"), Opaque(), 1))
+    raises_naming("every", lambda: sim.write_series(str(tmp_path / "w"), 1, Opaque()))
+    raises_naming("path", lambda: lava.Simulation.resume(Opaque()))
+    raises_naming("backend", lambda: lava.Simulation.resume(str(tmp_path / "x.npz"), Opaque()))
+    raises_naming("path", lambda: lava.Scene(Opaque()))
+    # A wrong type is both a TypeError and a ValueError (bad input was a ValueError before).
+    with pytest.raises(lava.ArgumentTypeError):
+        lava.simulate("10")
+    assert issubclass(lava.ArgumentTypeError, TypeError)
+    assert issubclass(lava.ArgumentTypeError, ValueError)
+
+
+def test_render_takes_the_command_lines_size(tmp_path):
+    text = lava.render(frames=1, size="32x18", warmup=0.1)[0]
+    assert text.shape == (18, 32, 3)
+    assert np.array_equal(text, lava.render(frames=1, size=(32, 18), warmup=0.1)[0])
+    for bad in ("32x", "x18", "32*18", "0x18"):
+        raises_naming("size", lambda: lava.render(frames=1, size=bad))
+
+
+def test_presets_load_by_name_from_any_folder(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert {"volcano", "eruption", "crater"} <= set(lava.presets())
+    volcano = lava.Scene("volcano")
+    assert volcano == lava.Scene(os.path.join(SCENES, "volcano.toml"))
+    assert lava.Scene("volcano.toml") == volcano
+    assert np.array_equal(lava.simulate(20, backend="cpu", scene="volcano"),
+                          lava.simulate(20, backend="cpu", scene=volcano))
+    assert lava.Scene("flow") == lava.Scene(os.path.join(SCENES, "modules", "flow.toml"))
+    with pytest.raises(ValueError, match="no preset.*volcano"):
+        lava.Scene("volcanoes")
+
+
+def test_a_series_from_python_is_the_programs(tmp_path):
+    flow = os.path.join(SCENES, "modules", "flow.toml")
+    subprocess.run([LAVA, "simulate", "--scene", flow, "--steps", "120", "--series",
+                    str(tmp_path / "cli"), "--every", "40"], check=True, capture_output=True)
+    lava.simulate(120, scene="flow", series=tmp_path / "py", every=40)
+    sim = lava.Simulation("flow", backend="cpu")
+    sim.write_series(str(tmp_path / "sim"), 50, 40)  # samples at 0 and 40
+    sim.write_series(str(tmp_path / "sim"), 70, 40)  # continued: 80 and 120
+    cli = sorted(os.listdir(tmp_path / "cli"))
+    assert cli == ["step_%012d.vtp" % k for k in (0, 40, 80, 120)]
+    for other in ("py", "sim"):
+        assert sorted(os.listdir(tmp_path / other)) == cli
+        for name in cli:
+            assert (tmp_path / other / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
+        assert ((tmp_path / (other + ".pvd")).read_text().replace(other + "/", "") ==
+                (tmp_path / "cli.pvd").read_text().replace("cli/", ""))
+    with pytest.raises(ValueError, match="every"):
+        lava.simulate(10, series=str(tmp_path / "x"))
+    with pytest.raises(ValueError, match="every"):
+        lava.simulate(10, every=5)
