@@ -2,7 +2,8 @@
 """`lava simulate --series DIR --every K` read back with VTK's own XML reader (SPEC §4):
 every sample's points and arrays equal, bit for bit, the same run's checkpoint at that step;
 the collection's times are step × dt; a run stopped by SIGINT leaves only whole samples and a
-collection naming exactly them, and `--resume` continues it to the bytes of a straight run.
+collection naming exactly them, and `--resume` continues it to the bytes of a straight run;
+`lava render --series` (and `render --resume`) writes the samples simulate writes.
 
 Usage: series_test.py LAVA SCENES SCRATCH"""
 import os
@@ -153,6 +154,39 @@ check(open(long + ".pvd").read().replace("long/", "") ==
       "the resumed collection is the straight run's")
 print("series: stopped at step %d by SIGINT, resumed to step %d: %d samples as a straight run's"
       % (stopped, end, len(names)))
+# 3. `lava render --series`: the samples of the steps its frames took, the same bytes as
+# simulate's; and `render --resume` continues a series a checkpoint left. A step of 2^-10 s
+# and 8 frames a second: 128 steps a frame, exactly.
+fine = ["--scene", scene, "--dt", "0.0009765625"]
+
+
+def run_program(*args):
+    done = subprocess.run([lava, *args], capture_output=True, text=True)
+    check(done.returncode == 0, "lava %s: %s" % (" ".join(args), done.stderr))
+
+
+frames = os.path.join(scratch, "frames")
+series = {name: os.path.join(scratch, name) for name in ("rendered", "simulated", "resumed")}
+shown = ["render", "--frames", "3", "--fps", "8", "--size", "32x18", "--out", frames]
+run_program(*shown, *fine, "--warmup", "0.125", "--series", series["rendered"], "--every", "64")
+run_program("simulate", *fine, "--steps", "384", "--series", series["simulated"], "--every", "64")
+ck = os.path.join(scratch, "at128.npz")
+run_program("simulate", *fine, "--steps", "128", "--checkpoint", ck, "--series",
+            series["resumed"], "--every", "64")
+run_program(*shown, "--resume", ck, "--warmup", "0", "--series", series["resumed"], "--every",
+            "64")
+simulated = sorted(os.listdir(series["simulated"]))
+check(simulated == ["step_%012d.vtp" % k for k in range(0, 385, 64)],
+      "simulate wrote samples 0 to 384: %s" % simulated)
+for run in ("rendered", "resumed"):
+    names = sorted(os.listdir(series[run]))
+    check(names == simulated, "render's series %s has simulate's samples: %s" % (run, names))
+    for f in simulated:
+        mine = os.path.join(series[run], f)
+        check(os.path.exists(mine) and open(mine, "rb").read() ==
+              open(os.path.join(series["simulated"], f), "rb").read(),
+              "render's %s/%s has simulate's bytes" % (run, f))
+print("series: render and render --resume write simulate's samples")
 if failures:
     sys.exit("FAIL: %d checks" % len(failures))
 print("PASS")

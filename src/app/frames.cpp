@@ -91,6 +91,8 @@ double renderFrames(Device& device, const Scene& scene, const FramePlan& plan) {
   run.size = plan.size;
   run.warmup = plan.warmup;
   run.start = plan.start;
+  run.series = plan.series;
+  run.seriesEvery = plan.seriesEvery;
   run.lines = plan.lines;
   run.style = plan.look.style;
   run.look = plan.look.settings;

@@ -30,6 +30,8 @@ struct FramePlan {
   double warmup = 3.0;  // seconds simulated before the first frame
   std::optional<State> start;  // --resume's state (none: the scene's initial)
   std::string folder;   // frame_00000.png ... go here
+  std::string series;   // --series DIR, with seriesEvery (none: empty)
+  uint64_t seriesEvery = 0;
   LineMode lines = LineMode::Lines;
   LookOptions look;
 };

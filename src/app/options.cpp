@@ -171,4 +171,23 @@ bool& parseOnlyMode() {
   return parseOnly;
 }
 
+void addSeriesFlags(Options& options, std::string& series, uint64_t& every) {
+  options.add("series",
+              "also write the state every --every steps as a VTK time series for ParaView: "
+              "DIR/step_*.vtp and DIR.pvd beside the folder (created if missing)",
+              [&series](const std::string& src, const std::string& t) {
+                series = seriesFolder(src, t);
+              });
+  options.add("every", "with --series: the steps between samples, 1..1e9",
+              [&every](const std::string& src, const std::string& t) {
+                every = parseInteger(src, t, 1, 1000000000);
+              });
+}
+
+void checkSeriesFlags(const std::string& series, uint64_t every) {
+  if (!series.empty() && !every)
+    throw UsageError("--series: needs --every K, the steps between samples (1..1e9)");
+  if (every && series.empty()) throw UsageError("--every: needs --series DIR");
+}
+
 }  // namespace lava::app

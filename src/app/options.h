@@ -25,6 +25,13 @@ uint64_t parseInteger(const std::string& source, const std::string& text, uint64
 double parseNumber(const std::string& source, const std::string& text, double lo, double hi,
                    bool loOpen = false);
 
+class Options;
+
+// --series DIR and --every K (docs/cli.md, "Series"), and the check that both or neither
+// were given (after resolve()).
+void addSeriesFlags(Options& options, std::string& series, uint64_t& every);
+void checkSeriesFlags(const std::string& series, uint64_t every);
+
 class Options {
  public:
   using Apply = std::function<void(const std::string& source, const std::string& text)>;

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "common/files.h"
 #include "commands.h"
 #include "frames.h"
 #include "host/output.h"
@@ -98,6 +99,7 @@ class RenderCommand final : public Command {
                    plan_.lines = parseLineMode(src, t);
                  });
     addLookFlags(options_, plan_.look);
+    addSeriesFlags(options_, plan_.series, plan_.seriesEvery);
     options_.add(
         "video", "also encode FILE.mp4 with ffmpeg (must be installed)",
         [this](const std::string& src, const std::string& t) {
@@ -112,6 +114,7 @@ class RenderCommand final : public Command {
   int run() override {
     std::optional<Snapshot> resumed = readResume(options_, scene_);
     options_.resolve();
+    checkSeriesFlags(plan_.series, plan_.seriesEvery);
     if (resumed) {
       checkResumedScene(scene_, resumed->scene);
       plan_.start = std::move(resumed->state);
@@ -128,27 +131,14 @@ class RenderCommand final : public Command {
                                ".lava-video-" + std::to_string(getpid()) + ".mp4";
       char rate[32];
       std::snprintf(rate, sizeof(rate), "%g", plan_.fps);
-      const int status = runFfmpeg(ffmpeg_, {"-loglevel",
-                                             "error",
-                                             "-y",
-                                             "-framerate",
-                                             rate,
-                                             "-start_number",
-                                             "0",
-                                             "-i",
-                                             plan_.folder + "/frame_%05d.png",
-                                             "-frames:v",
-                                             std::to_string(plan_.frames),
-                                             "-vf",
-                                             "pad=ceil(iw/2)*2:ceil(ih/2)*2",
-                                             "-c:v",
-                                             "libx264",
-                                             "-pix_fmt",
-                                             "yuv420p",
-                                             "-f",
-                                             "mp4",
-                                             temp});
-      if (status != 0 || std::rename(temp.c_str(), video_.c_str()) != 0) {
+      // clang-format off
+      const int status = runFfmpeg(
+          ffmpeg_, {"-loglevel", "error", "-y", "-framerate", rate, "-start_number", "0", "-i",
+                    plan_.folder + "/frame_%05d.png", "-frames:v", std::to_string(plan_.frames),
+                    "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-pix_fmt",
+                    "yuv420p", "-f", "mp4", temp});
+      // clang-format on
+      if (status != 0 || !common::moveIntoPlace(temp, video_)) {
         std::remove(temp.c_str());
         std::fprintf(stderr, "lava: ffmpeg failed to encode '%s'%s\n", video_.c_str(),
                      status < 0 ? " (it did not start)" : "");

@@ -68,16 +68,7 @@ class SimulateCommand final : public Command {
                  [this](const std::string& src, const std::string& t) {
                    every_ = parseInteger(src, t, 1, 1000000000);
                  });
-    options_.add("series",
-                 "also write the state every --every steps as a VTK time series for ParaView: "
-                 "DIR/step_*.vtp and DIR.pvd beside the folder (created if missing)",
-                 [this](const std::string& src, const std::string& t) {
-                   series_ = seriesFolder(src, t);
-                 });
-    options_.add("every", "with --series: the steps between samples, 1..1e9",
-                 [this](const std::string& src, const std::string& t) {
-                   seriesEvery_ = parseInteger(src, t, 1, 1000000000);
-                 });
+    addSeriesFlags(options_, series_, seriesEvery_);
     options_.add("resume",
                  "continue the run a checkpoint FILE.npz holds: its scene (scene flags may "
                  "change its parameters, not its emitters or their capacities) and state; "
@@ -91,9 +82,7 @@ class SimulateCommand final : public Command {
     options_.resolve();
     if (every_ && checkpoint_.empty())
       throw UsageError("--checkpoint-every: needs --checkpoint FILE.npz");
-    if (!series_.empty() && !seriesEvery_)
-      throw UsageError("--series: needs --every K, the steps between samples (1..1e9)");
-    if (seriesEvery_ && series_.empty()) throw UsageError("--every: needs --series DIR");
+    checkSeriesFlags(series_, seriesEvery_);
     if (resumed) checkResumedScene(scene_, resumed->scene);
     std::unique_ptr<Device> device;
     std::unique_ptr<Simulation> simulation;

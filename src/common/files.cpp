@@ -77,6 +77,16 @@ void writeFileAtomically(const std::string& path, const std::string& contents,
   syncFolder(path);
 }
 
+bool moveIntoPlace(const std::string& temporary, const std::string& path) {
+  const int fd = ::open(temporary.c_str(), O_RDONLY | O_CLOEXEC);
+  bool synced = fd >= 0;
+  while (synced && fsync(fd) != 0) synced = errno == EINTR;
+  if (fd >= 0) ::close(fd);
+  if (!synced || std::rename(temporary.c_str(), path.c_str()) != 0) return false;
+  syncFolder(path);
+  return true;
+}
+
 std::string readWholeFile(const std::string& path, const std::string& what) {
   struct stat info {};
   const std::string name = path.empty() ? what : path;

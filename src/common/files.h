@@ -15,6 +15,10 @@ namespace lava::common {
 void writeFileAtomically(const std::string& path, const std::string& contents,
                          void (*onTemporary)(const char* temporary) = nullptr);
 
+// A file another program wrote at `temporary` (beside `path`), flushed to the disk and renamed
+// into place as writeFileAtomically() does; false when it cannot be (the temporary stays).
+bool moveIntoPlace(const std::string& temporary, const std::string& path);
+
 // The whole of the file at `path`. A folder, or a file that cannot be read, is a
 // lava::InvalidArgument naming the path: "is a folder, not <what>" or "cannot read <what>:
 // <reason>" (`what`: "a scene file", say).

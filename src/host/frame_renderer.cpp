@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "common/steps.h"
+#include "series.h"
 
 namespace lava::host {
 namespace {
@@ -280,11 +281,19 @@ void renderFrames(Device& device, const Scene& scene, const FrameRun& run,
   const Submitter submitter(device);
   OrbitCamera camera;
   if (run.start) simulation.setState(*run.start);
-  simulation.advance(scene.stepsIn(run.warmup));
+  std::optional<SeriesWriter> series;
+  if (!run.series.empty()) {
+    series.emplace(run.series, run.seriesEvery, simulation.step(), run.start.has_value());
+    series->sampleIfDue(simulation);
+  }
+  const auto advance = [&](uint64_t steps) {
+    series ? series->advance(simulation, steps) : simulation.advance(steps);
+  };
+  advance(scene.stepsIn(run.warmup));
   const double stepsPerFrame = 1.0 / (run.fps * double(scene.h()));
   common::StepAccumulator owed;
   for (uint32_t frame = 0; frame < run.frames; ++frame) {
-    if (frame > 0) simulation.advance(owed.take(stepsPerFrame));
+    if (frame > 0) advance(owed.take(stepsPerFrame));
     camera.yaw = 0.6f + 0.15f * float(frame / run.fps);  // a slow orbit
     sink(frame, renderOffscreen(submitter, renderer, simulation, target, camera));
   }

@@ -92,6 +92,10 @@ struct FrameRun {
   LineMode lines = LineMode::Lines;
   LookStyle style = LookStyle::Lava;
   LookSettings look;
+  // Also the state every seriesEvery steps as a VTK time series in `series` (docs/cli.md,
+  // "Series"), continued when the run starts from `start`; none when empty.
+  std::string series;
+  uint64_t seriesEvery = 0;
 };
 // `sink` receives each frame's RGBA8 pixels (rows of size.width, top first) in order; an
 // exception from it ends the run.

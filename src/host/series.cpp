@@ -200,6 +200,21 @@ void SeriesWriter::write(const Scene& scene, const State& state) {
   writeCollection();
 }
 
+void SeriesWriter::sampleIfDue(Simulation& simulation) {
+  const State state = simulation.state();
+  if (due(state.step)) write(simulation.scene(), state);
+}
+
+void SeriesWriter::advance(Simulation& simulation, uint64_t steps) {
+  uint64_t step = simulation.state().step;
+  for (const uint64_t end = step + steps; step < end;) {
+    const uint64_t batch = std::min(end - step, every_ - step % every_);
+    simulation.advance(batch);
+    step += batch;
+    if (due(step)) write(simulation.scene(), simulation.state());
+  }
+}
+
 void SeriesWriter::writeCollection() const {
   std::string xml =
       "<?xml version=\"1.0\"?>\n"

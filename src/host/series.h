@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "lava/scene.h"
+#include "lava/simulation.h"
 #include "lava/state.h"
 
 namespace lava::host {
@@ -33,6 +34,11 @@ class SeriesWriter {
   bool due(uint64_t step) const { return step % every_ == 0; }
   // Writes the sample of `state` (at state.step), then the collection naming it.
   void write(const Scene& scene, const State& state);
+  // Writes the sample of `simulation`'s state when its step is due (a run's first state).
+  void sampleIfDue(Simulation& simulation);
+  // Advances `simulation` `steps` steps, stopping at each step that is due to write its
+  // sample (`lava render --series`).
+  void advance(Simulation& simulation, uint64_t steps);
   // DIR.pvd's path.
   const std::string& collection() const { return pvd_; }
   size_t samples() const { return entries_.size(); }
