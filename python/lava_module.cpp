@@ -307,13 +307,8 @@ void advanceWithSeries(lava::Simulation& sim, const std::string& folder, uint64_
                        uint64_t every) {
   const uint64_t first = stepOf(sim);
   lava::host::SeriesWriter series(folder, every, first, first > 0);
-  if (series.due(first)) series.write(sim.scene(), sim.state());
-  for (uint64_t done = 0; done < steps;) {
-    const uint64_t batch = std::min(steps - done, every - (first + done) % every);
-    advanceInterruptibly(sim, batch);
-    done += batch;
-    if (series.due(first + done)) series.write(sim.scene(), sim.state());
-  }
+  series.sampleIfDue(sim);
+  series.advance(sim, steps, advanceInterruptibly);
 }
 
 // series= and every= of simulate(): both or neither.

@@ -108,7 +108,8 @@ class SimulateCommand final : public Command {
     }
 
     const auto start = std::chrono::steady_clock::now();
-    const uint64_t done = advance(*simulation, series ? &*series : nullptr);
+    const uint64_t done =
+        advance(*simulation, resumed ? resumed->state.step : 0, series ? &*series : nullptr);
     if (stopAtAStep) {
       std::signal(SIGINT, previousInt);
       std::signal(SIGTERM, previousTerm);
@@ -150,12 +151,11 @@ class SimulateCommand final : public Command {
 
  private:
   // --steps steps, or fewer when a signal stops the run at a step boundary; the steps done.
-  uint64_t advance(Simulation& simulation, host::SeriesWriter* series) {
+  uint64_t advance(Simulation& simulation, uint64_t first, host::SeriesWriter* series) {
     // Batches of about 2^26 particle-steps (at least one step, at most 4096): a signal is
     // answered within a fraction of a second, at a step boundary.
     const uint64_t batchSteps = std::clamp<uint64_t>(
         (uint64_t{1} << 26) / std::max<uint64_t>(scene_.particles(), 1), 1, 4096);
-    const uint64_t first = simulation.state().step;
     if (series && series->due(first)) writeSample(*series, simulation.state());
     uint64_t done = 0;
     Progress progress("simulate", steps_);

@@ -153,10 +153,14 @@ std::string vtpBytes(const Scene& scene, const State& state) {
 }
 
 SeriesWriter::SeriesWriter(std::string folder, uint64_t every, uint64_t firstStep, bool resumed)
-    : folder_(std::move(folder)), every_(every) {
+    : folder_(std::move(folder)), every_(every), step_(firstStep) {
   while (folder_.size() > 1 && folder_.back() == '/') folder_.pop_back();
   const size_t slash = folder_.find_last_of('/');
   name_ = slash == std::string::npos ? folder_ : folder_.substr(slash + 1);
+  if (name_.empty() || name_ == "." || name_ == ".." || every_ == 0)
+    throw InvalidArgument("series", "expected a folder with a name (" + name_ +
+                                        ".pvd is written beside it) and a step count of at "
+                                        "least 1 between samples, got '" + folder_ + "'");
   pvd_ = folder_ + ".pvd";
   if (mkdir(folder_.c_str(), 0755) != 0 && errno != EEXIST)
     throw ResourceError("cannot create folder '" + folder_ + "': " + std::strerror(errno));
@@ -195,23 +199,22 @@ SeriesWriter::SeriesWriter(std::string folder, uint64_t every, uint64_t firstSte
 
 void SeriesWriter::write(const Scene& scene, const State& state) {
   writeFileAtomically(folder_ + "/" + sampleName(state.step), vtpBytes(scene, state));
+  step_ = state.step;
   while (!entries_.empty() && entries_.back().step >= state.step) entries_.pop_back();
   entries_.push_back({state.step, timeText(scene, state.step)});
   writeCollection();
 }
 
 void SeriesWriter::sampleIfDue(Simulation& simulation) {
-  const State state = simulation.state();
-  if (due(state.step)) write(simulation.scene(), state);
+  if (due(step_)) write(simulation.scene(), simulation.state());
 }
 
-void SeriesWriter::advance(Simulation& simulation, uint64_t steps) {
-  uint64_t step = simulation.state().step;
-  for (const uint64_t end = step + steps; step < end;) {
-    const uint64_t batch = std::min(end - step, every_ - step % every_);
-    simulation.advance(batch);
-    step += batch;
-    if (due(step)) write(simulation.scene(), simulation.state());
+void SeriesWriter::advance(Simulation& simulation, uint64_t steps, Run run) {
+  for (const uint64_t end = step_ + steps; step_ < end;) {
+    const uint64_t batch = std::min(end - step_, every_ - step_ % every_);
+    run ? run(simulation, batch) : simulation.advance(batch);
+    step_ += batch;
+    sampleIfDue(simulation);
   }
 }
 

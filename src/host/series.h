@@ -36,9 +36,10 @@ class SeriesWriter {
   void write(const Scene& scene, const State& state);
   // Writes the sample of `simulation`'s state when its step is due (a run's first state).
   void sampleIfDue(Simulation& simulation);
-  // Advances `simulation` `steps` steps, stopping at each step that is due to write its
-  // sample (`lava render --series`).
-  void advance(Simulation& simulation, uint64_t steps);
+  // Advances `simulation` `steps` steps, in batches that stop at each step due to write its
+  // sample; `run` takes each batch (by default simulation.advance).
+  using Run = void (*)(Simulation& simulation, uint64_t steps);
+  void advance(Simulation& simulation, uint64_t steps, Run run = nullptr);
   // DIR.pvd's path.
   const std::string& collection() const { return pvd_; }
   size_t samples() const { return entries_.size(); }
@@ -52,6 +53,9 @@ class SeriesWriter {
 
   std::string folder_, name_, pvd_;
   uint64_t every_;
+  // The simulation's step as the writer last saw it (its first step, a written sample's, or
+  // advance()'s end): knowing it costs no read-back of the state.
+  uint64_t step_;
   std::vector<Entry> entries_;
 };
 

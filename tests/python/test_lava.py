@@ -251,3 +251,5 @@ def test_a_series_from_python_is_the_programs(tmp_path):
         lava.simulate(10, series=str(tmp_path / "x"))
     with pytest.raises(ValueError, match="every"):
         lava.simulate(10, every=5)
+    with pytest.raises(ValueError, match="series"):  # run.pvd goes beside a named folder
+        lava.Simulation("flow", backend="cpu").write_series(".", 10, 5)
