@@ -308,6 +308,52 @@ TEST(Help, ExitsZeroAndListsCommands) {
 
 namespace {
 
+// The implicit flow against the published solutions it meets (docs/flow.md, "Against
+// published solutions"): `lava study --flow` exits 0 only when every sample is within the
+// case's tolerance, at dt = 1 ms and 1/120 s unless named.
+void expectHolds(const std::string& study) {
+  const Result r = lava("study --flow " + study);
+  EXPECT_EQ(r.status, 0) << r.out << r.err;
+  EXPECT_EQ(r.out.find("FAILS"), std::string::npos) << r.out;
+}
+
+TEST(PublishedSolutions, NusseltsFilmAtATenthOfASquareMetreASecond) {
+  expectHolds("nusselt --viscosity 0.1");
+}
+
+TEST(PublishedSolutions, NusseltsFilmAtOneSquareMetreASecond) {
+  expectHolds("nusselt --viscosity 1");
+}
+
+TEST(PublishedSolutions, NusseltsFilmAtTenSquareMetresASecond) {
+  expectHolds("nusselt --viscosity 10");
+}
+
+TEST(PublishedSolutions, NusseltsFilmAtAThousandSquareMetresASecondAtOneMillisecond) {
+  expectHolds("nusselt --viscosity 1000 --dts 0.001");
+}
+
+TEST(PublishedSolutions, NusseltsFilmAtAThousandSquareMetresASecondAtAFrame) {
+  expectHolds("nusselt --viscosity 1000 --dts 0.008333333333333333");
+}
+
+TEST(PublishedSolutions, HuppertsCurrentOnASlope) {
+  expectHolds("huppert-slope");
+}
+
+TEST(PublishedSolutions, MartinAndMoycesDamBreakAtOneMillisecond) {
+  expectHolds("dam-break --dts 0.001");
+}
+
+// The same study fails the explicit flow, whose viscosity is capped: the test can fail.
+TEST(PublishedSolutions, TheExplicitFlowFailsTheStiffFilm) {
+  const Result r = lava("study --flow nusselt --viscosity 10 --dts 0.001 --seconds 0.5 "
+                        "--solver explicit");
+  EXPECT_EQ(r.status, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("FAILS"), std::string::npos) << r.out;
+  EXPECT_EQ(lava("study --flow nusselt --solver pbf").status, 2);
+}
+
 // The published-solution cases of `lava study --flow` (docs/flow.md): bad names and values
 // refused in one line; the dam break sampled at Martin & Moyce's times against their fronts,
 // and the film's Nusselt speed taken from its own depth.

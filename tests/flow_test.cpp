@@ -340,3 +340,96 @@ TEST(FlowPhysics, NoParticleEndsInsideACollider) {
 
 }  // namespace
 }  // namespace lava
+
+namespace lava {
+namespace {
+
+// A pool of the implicit flow (docs/model.md, "The implicit flow").
+Scene implicitPool(uint32_t n, float x = 0.0f) {
+  Scene s = poolScene(n, x);
+  s.flow->solver = FlowSolver::Implicit;
+  return s;
+}
+
+}  // namespace
+
+TEST(FlowImplicit, TheSolverKeyReadsBackAndBadValuesNameIt) {
+  const Scene s = parseScene("[flow]\nsolver = \"implicit\"\n[[emitter]]\nflow = true\n", "t");
+  ASSERT_TRUE(s.flow);
+  EXPECT_EQ(s.flow->solver, FlowSolver::Implicit);
+  EXPECT_EQ(parseScene(toToml(s), "again").flow->solver, FlowSolver::Implicit);
+  EXPECT_EQ(parseScene("[flow]\n", "t").flow->solver, FlowSolver::Explicit);  // the default
+  try {
+    parseScene("[flow]\nsolver = \"pbf\"\n", "t");
+    ADD_FAILURE() << "accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("flow.solver: expected one of explicit, implicit"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(FlowImplicit, ThreadCountsGiveTheSameBytes) {
+  const Scene s = implicitPool(3000);  // past the size at which the flow's passes split
+  CpuSimulation one(s, 1), two(s, 2), three(s, 3);
+  for (CpuSimulation* sim : {&one, &two, &three}) sim->advance(40);
+  const State a = one.state(), b = two.state(), c = three.state();
+  EXPECT_EQ(stateHash(a), stateHash(b));
+  EXPECT_EQ(stateHash(a), stateHash(c));
+  EXPECT_NE(a.pressure, std::vector<float>(a.pressure.size(), 0.0f)) << "it is pressed";
+}
+
+TEST(FlowImplicit, ACheckpointResumesBitForBitPressuresIncluded) {
+  Scene s = implicitPool(300);
+  s.flow->coolingAir = 5.0f;  // crust forms within the run
+  CpuSimulation straight(s, 1);
+  straight.advance(300);
+  CpuSimulation first(s, 1);
+  first.advance(150);
+  const Snapshot saved = parseCheckpoint(checkpointBytes(s, first.state()), "test");
+  ASSERT_EQ(saved.state.pressure, first.state().pressure);
+  CpuSimulation second(saved.scene, 2);
+  second.setState(saved.state);
+  second.advance(150);
+  EXPECT_EQ(stateHash(straight.state()), stateHash(second.state()));
+  // An explicit flow's state has no pressures, and its checkpoint none either.
+  const State plain = initialState(poolScene(10));
+  EXPECT_TRUE(plain.pressure.empty());
+  EXPECT_EQ(checkpointBytes(poolScene(10), plain).find("pressure.npy"), std::string::npos);
+}
+
+TEST(FlowImplicit, TheSimdKernelGivesTheReferenceBytes) {
+  Scene s = implicitPool(300);
+  s.emitters.push_back(Emitter{});
+  s.emitters[1].particles = 500;
+  CpuSimulation scalar(s, 1), simd(s, 2, CpuKernel::Simd);
+  scalar.advance(200);
+  simd.advance(200);
+  EXPECT_EQ(stateHash(scalar.state()), stateHash(simd.state()));
+}
+
+TEST(FlowImplicit, AHotterPoolRunsFurtherAndNothingEndsInsideASolid) {
+  const test::MakeSimulation implicitReference = [](const Scene& s) {
+    Scene t = s;
+    t.flow->solver = FlowSolver::Implicit;
+    return std::make_unique<CpuSimulation>(t, 2);
+  };
+  test::expectHotterPoolRunsFurther(implicitReference);
+  test::expectNoParticleInsideTheSphere(implicitReference);
+}
+
+TEST(FlowImplicit, ARunningSimulationKeepsItsSolver) {
+  CpuSimulation sim(implicitPool(10), 1);
+  try {
+    sim.setScene(poolScene(10));
+    ADD_FAILURE() << "accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("flow.solver: a running simulation keeps its solver"),
+              std::string::npos)
+        << e.what();
+  }
+  State wrong = initialState(poolScene(10));
+  EXPECT_THROW(sim.setState(wrong), InvalidArgument);  // no pressures
+}
+
+}  // namespace lava

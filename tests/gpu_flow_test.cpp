@@ -385,5 +385,20 @@ TEST_F(GpuFlow, AFlowBeyondOneBindingIsRefusedUpFront) {
   }
 }
 
+TEST_F(GpuFlow, TheImplicitSolverIsRefusedNamingItsKey) {
+  // flow.comp runs the explicit flow; the implicit one is the CPU backends' so far.
+  Scene s = test::poolScene(64);
+  s.flow->solver = FlowSolver::Implicit;
+  try {
+    GpuSimulation gpu(device(), s);
+    ADD_FAILURE() << "accepted";
+  } catch (const InvalidArgument& error) {
+    EXPECT_EQ(error.parameter(), "flow.solver");
+    EXPECT_NE(std::string(error.what()).find("runs on the CPU backends (cpu, cpu-simd)"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
 }  // namespace
 }  // namespace lava

@@ -26,12 +26,12 @@ cmake -S . -B build-asan -DLAVA_SANITIZE=ON -DLAVA_BUILD_PYTHON=OFF \
       >/dev/null
 cmake --build build-asan -j2
 # The groups of the tests that load no Vulkan.
-novulkan='Random|Physics|Emission|StateIo|Compare|Integrators|Forces|Colliders|Denormals|SceneKeys|SceneToml|Spirv|Simd|Effects/SimdModules|FlowKeys|FlowState|FlowPhysics'
+novulkan='Random|Physics|Emission|StateIo|Compare|Integrators|Forces|Colliders|Denormals|SceneKeys|SceneToml|Spirv|Simd|Effects/SimdModules|FlowKeys|FlowState|FlowPhysics|FlowImplicit'
 # The flow's longest physics (a pool's spreading over seconds) are the plain suite's: the
 # same host code as the shorter flow tests here, at 4 times the time. So are the SIMD
 # kernels' bit-for-bit checks of each module on its own and of random scenes: every module
 # runs through the same kernels in the "all" scene, which runs here (with the flow's).
-physics='^FlowPhysics\.(APool|AHotter|TheLessViscous)|^Simd\.RandomScenes'
+physics='^FlowPhysics\.(APool|AHotter|TheLessViscous)|^FlowImplicit\.(ThreadCounts|AHotter)|^Simd\.RandomScenes'
 modules='[^ ]*/(bursts|collider|emitter|force|integrator)'
 ctest --test-dir build-asan --output-on-failure -j2 -R "^($novulkan)\\." \
       -E "$physics|^Effects/SimdModules\\.$modules"
@@ -70,9 +70,10 @@ shard() {
       LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp \
       build-asan/tests/lava_cli_tests > "build-asan/cli-shard-$1.log" 2>&1
 }
-# Left to the plain suite: the progress display's long runs on a terminal and the builtin
-# suite's reports (the suite's code runs here in the other Suite tests).
-slow='Progress.*:Suite.BuiltinPassesWithParsableReports'
+# Left to the plain suite: the progress display's long runs on a terminal, the builtin
+# suite's reports (the suite's code runs here in the other Suite tests) and the flow's
+# published solutions (minutes of the CPU reference; StudyFlow runs the same commands).
+slow='Progress.*:Suite.BuiltinPassesWithParsableReports:PublishedSolutions.*'
 export -f shard
 export slow
 export icd

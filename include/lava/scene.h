@@ -27,6 +27,10 @@ enum class ColliderType : uint32_t { Plane, Sphere, Box, Cone };
 // its one burst at rest on the cubic lattice of its spacing, centred in its box, sphere or
 // disc (docs/model.md, "Lattice fill").
 enum class Fill : uint32_t { Random, Lattice };
+// The flow's method (docs/model.md, "The flow" and "The implicit flow"): weakly compressible
+// SPH with explicit, capped viscosity (every backend), or a density constraint and viscosity
+// solved implicitly in substeps (the CPU backends so far).
+enum class FlowSolver : uint32_t { Explicit, Implicit };
 
 // One emitter: a ring of `particles` slots of its own, reborn oldest first.
 struct Emitter {
@@ -84,6 +88,7 @@ struct Flow {
   float conduction = 0.0f;        // m^2/s: heat diffusivity between neighbours (0: none)
   float soundSpeed = 10.0f;       // m/s: the pressure's wave speed (at most 0.4 radius / h)
   float restitution = 0.0f;       // normal speed a flow particle keeps off the ground, colliders
+  FlowSolver solver = FlowSolver::Explicit;
 };
 
 struct Scene {
@@ -144,5 +149,6 @@ LAVA_API const char* name(Integrator integrator);
 LAVA_API const char* name(ForceType type);
 LAVA_API const char* name(ColliderType type);
 LAVA_API const char* name(Fill fill);
+LAVA_API const char* name(FlowSolver solver);
 
 }  // namespace lava

@@ -33,6 +33,9 @@ struct State {
   // Scenes with a flow (Scene::flow), one per slot; empty otherwise:
   std::vector<float> temperature;  // K: flow particles'; 0 for other slots and unborn ones
   std::vector<uint8_t> crust;      // 1: a crust particle (stopped for good until reborn)
+  // Scenes with an implicit flow (FlowSolver::Implicit), one per slot; empty otherwise: a
+  // liquid flow particle's pressure at its last substep (m^2/s^2), where the next begins.
+  std::vector<float> pressure;
 };
 
 // Before the first step: every slot unborn (zero position and velocity, age -1, mass 0;
@@ -45,15 +48,16 @@ LAVA_API State initialState(const Scene& scene);
 LAVA_API void checkHostMemory(const Scene& scene);
 
 // Throws InvalidArgument ("state: ...") unless `state` fits `scene`: as many particles as
-// its slots, one clock per emitter, each head inside its ring, and temperatures and crust
-// flags for each slot exactly when the scene has a flow.
+// its slots, one clock per emitter, each head inside its ring, temperatures and crust flags
+// for each slot exactly when the scene has a flow, and pressures when that flow is implicit.
 LAVA_API void checkState(const Scene& scene, const State& state);
 
 // A 64-bit FNV-1a-style hash of the particles' bytes: equal states, equal hashes, on any
 // machine (Lava's own offset basis; see sim/state.cpp).
 LAVA_API uint64_t stateHash(const std::vector<Particle>& particles);
 // The particles' hash, continued over each slot's temperature and crust flag when the state
-// has them (a scene with a flow): a state without a flow hashes as its particles.
+// has them (a scene with a flow), then its pressures (an implicit flow): a state without a
+// flow hashes as its particles.
 LAVA_API uint64_t stateHash(const State& state);
 
 // Which emitter slot `slot` belongs to.

@@ -77,9 +77,10 @@ void sides(Scene& s, float half) {
 }
 
 // Runs `s` to each time of `times` (ascending), calling look(t, state) there.
-void run(const Scene& s, unsigned threads, const std::vector<double>& times,
+void run(Scene s, const FlowStudyOptions& o, const std::vector<double>& times,
          const std::function<void(double, const State&)>& look) {
-  CpuSimulation sim(s, threads);
+  s.flow->solver = o.solver;
+  CpuSimulation sim(s, o.threads);
   uint64_t done = 0;
   for (double t : times) {
     const uint64_t step = s.stepsIn(t);
@@ -125,7 +126,7 @@ FlowStudy nusselt(const FlowStudyOptions& o) {
   const double seconds =
       o.seconds > 0.0 ? o.seconds : std::min(4.0, std::max(1.0, 5.0 * depth * depth / nu));
   FlowStudy study{"depth-averaged speed (m/s)", "Nusselt: g sin(30°) H^2 / (3 nu)", {}, 0.0, 0.2};
-  run(s, o.threads, every(seconds / 20.0, seconds), [&](double t, const State& state) {
+  run(s, o, every(seconds / 20.0, seconds), [&](double t, const State& state) {
     std::vector<float> xs;
     for (const Particle& p : state.particles) xs.push_back(p.px);
     std::nth_element(xs.begin(), xs.begin() + xs.size() / 2, xs.end());
@@ -160,7 +161,7 @@ FlowStudy damBreak(const FlowStudyOptions& o) {
   for (const auto& row : kMartinMoyce) times.push_back(row[0] / scale);
   FlowStudy study{"front / a", "Martin & Moyce (1952), n^2 = 2", {}, 0.0, 0.1};
   size_t k = 0;
-  run(s, o.threads, times, [&](double t, const State& state) {
+  run(s, o, times, [&](double t, const State& state) {
     study.samples.push_back({t, front(state) / kA, kMartinMoyce[k++][1]});
   });
   for (const FlowSample& x : study.samples)
@@ -181,7 +182,7 @@ FlowStudy huppertSlope(const FlowStudyOptions& o) {
   sides(s, 2.0f * kSpacing);
   const double area = 0.2 * 0.1, seconds = o.seconds > 0.0 ? o.seconds : 4.0;
   FlowStudy study{"front (m)", "Huppert (1982): (9 A^2 g sin(30°) t / (4 nu))^(1/3)", {}, 0.0, 0.1};
-  run(s, o.threads, every(seconds / 16.0, seconds), [&](double t, const State& state) {
+  run(s, o, every(seconds / 16.0, seconds), [&](double t, const State& state) {
     study.samples.push_back(
         {t, front(state), std::cbrt(9.0 * area * area * kG * 0.5 * t / (4.0 * nu))});
   });
@@ -201,7 +202,7 @@ FlowStudy huppertSpread(const FlowStudyOptions& o) {
   const double seconds = o.seconds > 0.0 ? o.seconds : 10.0;
   const double similarity = std::pow(1024.0 / (81.0 * kPi * kPi * kPi), 0.125);  // 0.894
   FlowStudy study{"bulk front (m)", "Huppert (1982): 0.894 (g V^3 t / (3 nu))^(1/8)", {}, 0.0, 0.1};
-  run(s, o.threads, every(seconds / 20.0, seconds), [&](double t, const State& state) {
+  run(s, o, every(seconds / 20.0, seconds), [&](double t, const State& state) {
     double cx = 0.0, cz = 0.0;
     for (const Particle& p : state.particles) cx += p.px, cz += p.pz;
     const double n = double(state.particles.size());
@@ -230,7 +231,7 @@ FlowStudy atRest(const FlowStudyOptions& o) {
   sides(s, kHalf);
   const double seconds = o.seconds > 0.0 ? o.seconds : 2.0;
   FlowStudy study{"fastest speed (m/s)", "at rest: below 0.01 m/s", {}, 0.0, 0.01};
-  run(s, o.threads, every(seconds / 8.0, seconds), [&](double t, const State& state) {
+  run(s, o, every(seconds / 8.0, seconds), [&](double t, const State& state) {
     double fastest = 0.0;
     for (const Particle& p : state.particles)
       fastest = std::max(

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "lava/scene.h"
+
 namespace lava::app {
 
 // The cases, by name: nusselt, dam-break, huppert-slope, huppert-spread, at-rest.
@@ -16,6 +18,7 @@ struct FlowStudyOptions {
   double dt = 0.001;       // s
   double seconds = 0.0;    // simulated time; 0: the case's own
   unsigned threads = 2;    // of the CPU reference
+  FlowSolver solver = FlowSolver::Implicit;  // the method measured
 };
 
 // One look at the run: at time t, the measured quantity and the published one.

@@ -80,6 +80,15 @@ class StudyCommand final : public Command {
                  [this](const std::string& src, const std::string& t) {
                    viscosity_ = parseNumber(src, t, 1e-6, 1e4);
                  });
+    options_.add("solver", "--flow: the flow's method, explicit or implicit [implicit]",
+                 [this](const std::string& src, const std::string& t) {
+                   if (t == "explicit")
+                     solver_ = FlowSolver::Explicit;
+                   else if (t == "implicit")
+                     solver_ = FlowSolver::Implicit;
+                   else
+                     throw UsageError(src + ": expected explicit or implicit, got '" + t + "'");
+                 });
     options_.add("csv", "also write the table to FILE.csv",
                  [this](const std::string& src, const std::string& t) {
                    checkOutputPath(src, t, ".csv");
@@ -144,6 +153,7 @@ class StudyCommand final : public Command {
       FlowStudyOptions o;
       o.name = flow_;
       o.viscosity = viscosity_;
+      o.solver = solver_;
       o.dt = dt;
       o.seconds = options_.given("seconds") ? seconds_ : 0.0;
       const FlowStudy study = studyFlow(o);
@@ -222,6 +232,7 @@ class StudyCommand final : public Command {
   std::string energyCsv_;
   std::string flow_;        // --flow: a published solution's case
   double viscosity_ = 0.0;  // --flow's viscosity; 0: the case's
+  FlowSolver solver_ = FlowSolver::Implicit;
 };
 
 }  // namespace

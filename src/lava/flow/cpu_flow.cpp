@@ -9,71 +9,17 @@
 #include <thread>
 
 #include "flow/lattice.h"
+#include "flow/stepper-inl.h"
 #include "sim/constants.h"
-#include "sim/model-inl.h"
 #include "sim/reference.h"
 
 namespace lava::detail {
 namespace {
 
-using Model = scalar::Model<float>;
-using V = Model::V3;
+using namespace flowcpu;
 
-constexpr uint32_t kNotFlow = std::numeric_limits<uint32_t>::max();
-constexpr double kPi = 3.14159265358979323846;
 // Cells are clamped to +-2^20 per axis (far particles share the outermost cells).
 constexpr float kCellLimit = 1048576.0f;
-
-float tiny(float term) {
-  return std::fabs(term) < kTinyTerm ? 0.0f : term;
-}
-
-// 1/q from 1/sqrt(q) squared: multiplications only, the same bits everywhere.
-float reciprocal(float q) {
-  const float y = Model::inverseRoot(q);
-  return y * y;
-}
-
-// At most 1: the factor that keeps a particle's exchange rates summing to at most 1/2.
-float stable(float rate) {
-  return rate > 0.5f ? 0.5f * reciprocal(rate) : 1.0f;
-}
-
-// The rest spacing and volume of the first flow emitter's particles.
-double restVolume(const Scene& scene) {
-  for (const Emitter& e : scene.emitters)
-    if (e.flow) return double(e.mass) / double(scene.flow->density);
-  const double half = 0.5 * double(scene.flow->radius);
-  return half * half * half;
-}
-
-// The sum of (1 - r/radius)^3 over the cubic lattice of spacing `spacing` around a point
-// (itself included), over the pairs that count (t > kPairCut).
-double latticeSum(double spacing, double radius) {
-  const int n = int(std::ceil(radius / spacing));
-  double sum = 0.0;
-  for (int a = -n; a <= n; ++a)
-    for (int b = -n; b <= n; ++b)
-      for (int c = -n; c <= n; ++c) {
-        const double q = spacing * spacing * double(a * a + b * b + c * c);
-        if (1.0 - q / (radius * radius) <= double(kPairCut)) continue;
-        const double u = 1.0 - std::sqrt(q) / radius;
-        sum += u * u * u;
-      }
-  return sum;
-}
-
-// The distance r of a pair and its unit direction n from j to i: coincident pairs (no
-// direction) are pushed apart along x, the lower slot towards -x.
-float distance(float q, const V& d, uint32_t i, uint32_t j, V& n) {
-  if (!(q >= kCoincident)) {
-    n = V{i < j ? -1.0f : 1.0f, 0.0f, 0.0f};
-    return 0.0f;
-  }
-  const float inv = Model::inverseRoot(q);
-  n = inv * d;
-  return q * inv;
-}
 
 }  // namespace
 
@@ -115,15 +61,26 @@ std::vector<FlowWeights> flowWeights(const Scene& scene) {
   if (!scene.flow) return weights;
   const Flow& f = *scene.flow;
   const double radius = f.radius, r2 = radius * radius, v0 = restVolume(scene);
-  const double lattice = v0 * latticeSum(std::cbrt(v0), radius);
+  const double s0 = std::cbrt(v0), lattice = v0 * latticeSum(s0, radius);
+  const double poly6 = 945.0 / (32.0 * kPi * r2 * r2 * radius);  // -W'(r)/r = poly6 t^2
+  // The implicit flow's Laplacian, exact on the rest lattice for a quadratic velocity:
+  // sum V0 poly6 t^2 x^2 over the lattice is 1 in the continuum, and made 1 here.
+  double quadratic = 0.0;
+  forLattice(s0, radius, [&](int a, int, int, double r) {
+    const double t = 1.0 - r * r / r2, x = double(a) * s0;
+    quadratic += v0 * poly6 * t * t * x * x;
+  });
   for (size_t k = 0; k < scene.emitters.size(); ++k) {
     const Emitter& e = scene.emitters[k];
     if (!e.flow) continue;
     const double v = double(e.mass) / f.density;
     const double density = v / lattice;
-    weights[k] = {float(density), float(3.0 * density / radius),
-                  float(double(scene.h()) * v * 945.0 / (32.0 * kPi * r2 * r2 * radius)),
-                  e.temperature == 0.0f ? f.temperature : e.temperature};
+    weights[k] = {float(density),
+                  float(3.0 * density / radius),
+                  float(double(scene.h()) * v * poly6),
+                  e.temperature == 0.0f ? f.temperature : e.temperature,
+                  float(v * poly6 / quadratic),
+                  float(v / v0)};
   }
   return weights;
 }
@@ -216,6 +173,23 @@ FlowStepper::FlowStepper(const Reference& reference, unsigned threads)
   }
   buckets_ = flowBuckets(slots);
   const size_t n = s.particles();
+  if (s.flow->solver == FlowSolver::Implicit) {
+    ik_ = implicitConstants(s);
+    indexOf_.assign(n, kNotFlow);
+    for (size_t i = 0; i < n; ++i)
+      if (emitterOfSlot_[i] != kNotFlow) {
+        indexOf_[i] = uint32_t(flowSlots_.size());
+        flowSlots_.push_back(uint32_t(i));
+      }
+    const size_t flow = flowSlots_.size();
+    pairs_.resize(flow * kNeighbourCap);
+    own_.resize(flow);
+    pressure_.resize(flow);
+    for (std::vector<float>* v : {&lambda_, &rhs_, &ar_, &az_, &ap_, &aq_}) v->resize(flow);
+    u_.resize(flow);
+    count_.resize(flow);
+    for (std::vector<V3f>* v : {&gradWall_, &v_, &x_, &r_, &z_, &p_, &q_, &b_}) v->resize(flow);
+  }
   cells_.resize(n);
   theta_.resize(n);
   pi_.resize(n);
@@ -244,53 +218,6 @@ void FlowStepper::sort(const State& state) {
       sorted_[cursor_[bucketOf(cells_[i], buckets_)]++] = uint32_t(i);
 }
 
-// Calls visit(j, d, q, t) for every flow particle j within the radius of particle i (i
-// itself included): the cells z, then y, then x from -1 to +1, each bucket's first
-// kFlowBucketCap slots in order, and i after them when its own bucket holds it beyond them.
-template <class Visit>
-void FlowStepper::neighbours(const State& state, size_t i, const Visit& visit) const {
-  const Particle& p = state.particles[i];
-  const Cell c = cells_[i];
-  for (int32_t dz = -1; dz <= 1; ++dz)
-    for (int32_t dy = -1; dy <= 1; ++dy)
-      for (int32_t dx = -1; dx <= 1; ++dx) {
-        const Cell n{c.x + dx, c.y + dy, c.z + dz};
-        const uint32_t b = bucketOf(n, buckets_);
-        const uint32_t begin = start_[b], count = start_[b + 1] - begin;
-        uint32_t reads = std::min(count, gpu::kFlowBucketCap);
-        if (count > gpu::kFlowBucketCap && dx == 0 && dy == 0 && dz == 0 &&
-            i > sorted_[begin + gpu::kFlowBucketCap - 1])
-          ++reads;
-        for (uint32_t r = 0; r < reads; ++r) {
-          const uint32_t j = r < gpu::kFlowBucketCap ? sorted_[begin + r] : uint32_t(i);
-          if (!(cells_[j] == n)) continue;
-          const Particle& o = state.particles[j];
-          const V d{p.px - o.px, p.py - o.py, p.pz - o.pz};
-          const float q = dot(d, d);
-          const float t = 1.0f - q * k_.invRadius2;
-          if (t > kPairCut) visit(j, d, q, t);
-        }
-      }
-}
-
-// body(e) for e in [0, n), over the stepper's threads: each e writes only its own results,
-// so the threads change no bit.
-template <class Body>
-void FlowStepper::parallel(size_t n, const Body& body) const {
-  const size_t threads = n < 2048 ? 1 : threads_;
-  if (threads == 1) {
-    for (size_t e = 0; e < n; ++e) body(e);
-    return;
-  }
-  std::vector<std::thread> workers;
-  for (size_t t = 1; t < threads; ++t)
-    workers.emplace_back([&, t] {
-      for (size_t e = n * t / threads; e < n * (t + 1) / threads; ++e) body(e);
-    });
-  for (size_t e = 0; e < n / threads; ++e) body(e);
-  for (std::thread& w : workers) w.join();
-}
-
 void FlowStepper::births(State& state, const std::vector<std::vector<Births>>& schedule,
                          size_t i) const {
   const Scene& s = reference_.scene();
@@ -303,13 +230,14 @@ void FlowStepper::births(State& state, const std::vector<std::vector<Births>>& s
       reference_.emit(k, b.firstSerial + r, state.particles[slot]);
       state.temperature[slot] = weights_[k].birth;
       state.crust[slot] = 0;
+      if (!state.pressure.empty()) state.pressure[slot] = 0.0f;
     }
   }
 }
 
-void FlowStepper::step(State& state) {
-  // A flow particle holding a NaN or infinity dies before any neighbour reads it
-  // (docs/model.md "Non-finite values").
+// A flow particle holding a NaN or infinity dies before any neighbour reads it
+// (docs/model.md "Non-finite values").
+void FlowStepper::killNonFinite(State& state) const {
   for (size_t i = 0; i < state.particles.size(); ++i) {
     Particle& p = state.particles[i];
     if (emitterOfSlot_[i] == kNotFlow || p.age < 0.0f ||
@@ -318,7 +246,13 @@ void FlowStepper::step(State& state) {
     p = Particle{0.0f, 0.0f, 0.0f, -1.0f, 0.0f, 0.0f, 0.0f, p.mass};
     state.temperature[i] = 0.0f;
     state.crust[i] = 0;
+    if (!state.pressure.empty()) state.pressure[i] = 0.0f;
   }
+}
+
+void FlowStepper::step(State& state) {
+  if (!flowSlots_.empty()) return implicitStep(state);
+  killNonFinite(state);
   sort(state);
   const Scene& s = reference_.scene();
   const float h = s.h();
@@ -397,16 +331,7 @@ void FlowStepper::step(State& state) {
         v = Model::flushed(v + ek.hm * Model::force<Modules::Any>(s, x, v, ek.w));
         x = x + h * v;
       }
-      if (!becomesCrust && Model::nonFinite(x, v)) {  // docs/model.md "Non-finite values"
-        x = v = V{0.0f, 0.0f, 0.0f};
-        dies = true;
-      } else if (!becomesCrust) {
-        float lost = 0.0f;
-        touched = Model::contact(contact_, reference_, x0, x, v, lost, true);
-        dies = lost < 0.0f;
-        becomesCrust = !liquid && touched;
-      }
-      if (becomesCrust) v = V{0.0f, 0.0f, 0.0f};
+      touched = settle(contact_, reference_, x0, liquid, x, v, becomesCrust, dies);
     }
     const float cool = touched ? k_.coolContact : k_.coolAir;
     float t1 = (temperature[i] + dT) - cool * (temperature[i] - k_.ambient);

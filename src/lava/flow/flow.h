@@ -15,6 +15,10 @@ namespace lava::detail {
 
 class Reference;
 
+struct V3f {
+  float x, y, z;
+};
+
 using gpu::kViscosityEntries;
 // A pair interacts when t = 1 - r^2/radius^2 exceeds this (the kernels' tails are cut where
 // their products could leave float32's normal range).
@@ -46,7 +50,31 @@ struct FlowWeights {
   float pressure;   // 3 density / radius (1/m): the same kernel's gradient
   float laplacian;  // h V 945 / (32 pi radius^5) (s/m^2): poly6's -W'(r)/r
   float birth;      // temperature at birth (K)
+  // The implicit flow's: the Laplacian's weight without h, scaled to be exact on the rest
+  // lattice (1/m^2), and the particle's volume in V0.
+  float viscous, volume;
 };
+
+// The implicit flow's limits (docs/model.md, "The implicit flow").
+constexpr uint32_t kMaxSubsteps = 16;          // a step's most substeps
+constexpr uint32_t kViscousIterations = 64;    // the viscosity's most CG iterations
+constexpr uint32_t kPressureIterations = 64;   // the density constraint's most CG iterations
+constexpr uint32_t kNeighbourCap = 64;         // the most neighbours a particle keeps
+
+// The implicit flow's constants, computed once in double and rounded to float32.
+struct ImplicitConstants {
+  float phi, slope;   // a solid's density at distance d: phi u^5 (3 - 2u), its d-derivative
+                      // slope u^4 (5 - 4u), u = 1 - d/radius
+  float epsilon;      // the constraint's relaxation, added to its gradients' squares (1/m^2)
+  float tolerance2;   // the CG stops where r.z <= tolerance2 b.(b / D), per component
+  float pressureTolerance2;  // and the density constraint's where r.z <= this b.(b / D)
+  float near;         // a particle this close to a solid (m) touches it: rest spacing
+  float coolAir, coolContact;  // 1/s
+  float invStep;               // 1 / the scene's step (1/s)
+  float cfl2[kMaxSubsteps];    // (n 0.4 s0)^2 (m^2) for n = 1..: n substeps move at most that
+  float inverse[kMaxSubsteps]; // 1/n
+};
+ImplicitConstants implicitConstants(const Scene& scene);
 std::vector<FlowWeights> flowWeights(const Scene& scene);  // one per emitter
 
 // The grid cell of a position, and its bucket among `buckets` (a power of two).
@@ -85,7 +113,26 @@ class FlowStepper {
   void step(State& state);
 
  private:
+  void killNonFinite(State& state) const;
   void sort(const State& state);
+  // The implicit flow (cpu_implicit.cpp): substeps of a fraction of the step each.
+  void implicitStep(State& state);
+  void substep(State& state, float fraction, uint32_t substeps);
+  void gatherNeighbours(const State& state, float hs);
+  void viscousSystem(const State& state, float hs, float fraction);
+  void solveViscosity(float hs);
+  // hs m_f viscous_j (nu_f + nu_j): times a pair's weights, its share of f's row.
+  float viscousCoefficient(uint32_t f, uint32_t j, float hs) const;
+  void densitySystem(const State& state, float hs, float invHs);
+  void multiplyDensity(const std::vector<float>& x, std::vector<float>& q);
+  void solveDensity(const State& state, float hs, float invHs);
+  float conducted(const State& state, uint32_t f, float conduction) const;
+  float rateOf(uint32_t f, const std::vector<V3f>& u) const;
+  V3f pushOf(uint32_t f, const std::vector<float>& m) const;
+  float pressureOf(uint32_t f) const;  // flow index f's emitter's pressure weight
+  void move(State& state, float hs, float fraction, float invHs);
+  template <class Visit>
+  void walls(float x, float y, float z, const Visit& visit) const;
   template <class Visit>
   void neighbours(const State& state, size_t i, const Visit& visit) const;
   template <class Body>
@@ -111,6 +158,41 @@ class FlowStepper {
     uint8_t crust;
   };
   std::vector<Next> next_;  // the step's results, in sorted order, written back at its end
+
+  // The implicit flow's, per slot unless named per flow index.
+  ImplicitConstants ik_{};
+  std::vector<uint32_t> flowSlots_;  // per flow index: its slot
+  struct Pair {
+    uint32_t j;  // the neighbour's flow index
+    float t2;    // (1 - r^2/radius^2)^2
+    // The viscosity's weights: t^2 plus its images' t^2 across the solids near i (each image
+    // moving at 2 friction - 1 times v_j): on i's diagonal, and on its coupling to j.
+    float diagonal, coupling;
+    V3f e;       // (1 - r/radius)^2 times the unit direction from j to i
+  };
+  std::vector<Pair> pairs_;           // kNeighbourCap per flow index
+  std::vector<uint32_t> count_;       // per flow index: its pairs
+  std::vector<uint32_t> indexOf_;     // per slot: its flow index (kNotFlow for others)
+  // Per flow index: what the substep's neighbour pass found, and the solvers' values.
+  struct Own {
+    float nu;           // viscosity (m^2/s)
+    float theta;        // density ratio, solids' share included
+    float invG;         // 1 / (hs (|grad theta|^2 + moving neighbours' |g|^2 + epsilon))
+    float wallViscous;  // its own images' t^2 across the solids, each times 2 - 2 friction
+    float conductive;   // the conduction's stability factor
+    float diag, invDiag;
+    float total;  // the density constraint's multiplier (m^2/s)
+    uint8_t liquid, touches, near, active;
+  };
+  std::vector<Own> own_;
+  // gradWall: the solids' share of grad theta; v: the velocity being solved; x, r, z, p, q,
+  // b: the CG's solution, residual, preconditioned residual, direction, A p and right side.
+  std::vector<V3f> gradWall_, v_, x_, r_, z_, p_, q_, b_;
+  std::vector<float> pressure_;  // the substep's results, written back with next_
+  // The density constraint's CG: multipliers, right side, residual, preconditioned
+  // residual, direction and product; u the velocity change of a product.
+  std::vector<float> lambda_, rhs_, ar_, az_, ap_, aq_;
+  std::vector<V3f> u_;
 };
 
 }  // namespace lava::detail

@@ -14,6 +14,14 @@ namespace {
 
 constexpr VkDeviceSize kParticleBytes = sizeof(Particle);
 
+// flow.comp runs the explicit flow; the implicit one runs on the CPU backends so far.
+void checkSolver(const Scene& scene) {
+  if (scene.flow->solver != FlowSolver::Explicit)
+    throw InvalidArgument("flow.solver", "\"" + std::string(name(scene.flow->solver)) +
+                                             "\" runs on the CPU backends (cpu, cpu-simd); the "
+                                             "GPU backend runs \"explicit\"");
+}
+
 // flow.comp's grid: each bucket's count and start, the sorted slots, each run's count and
 // start, each block's count and start (shared.h, kFlowGridBinding).
 VkDeviceSize gridBytes(uint64_t buckets, uint64_t slots) {
@@ -24,6 +32,7 @@ VkDeviceSize gridBytes(uint64_t buckets, uint64_t slots) {
 // The scene's parameters, once its flow is known to fit the device: the sizes are checked in
 // 64 bits before flowParams narrows them to the shader's 32.
 gpu::FlowParams checkedParams(const DeviceContext& c, const Scene& scene) {
+  checkSolver(scene);
   uint64_t slots = 0;
   for (const FlowRange& r : flowRanges(scene)) {
     slots += r.count;
@@ -84,6 +93,7 @@ GpuFlow::GpuFlow(DeviceContext& c, const Scene& scene)
 }
 
 void GpuFlow::setScene(const Scene& scene) {
+  checkSolver(scene);
   params_ = flowParams(scene);
   pipeline(scene);
 }

@@ -363,6 +363,11 @@ std::vector<KeyDef> flowKeys() {
                [f](Scene& s, size_t i) -> float& { return f(s, i).soundSpeed; }),
       floatKey("restitution", "normal speed a flow particle keeps off the ground and colliders",
                kUnit, [f](Scene& s, size_t i) -> float& { return f(s, i).restitution; }),
+      nameKey<FlowSolver>(
+          "solver",
+          "the flow's method: explicit (weakly compressible, viscosity capped; every backend) "
+          "or implicit (density constraint, viscosity as given, substeps; CPU backends only)",
+          2, [f](Scene& s, size_t i) -> FlowSolver& { return f(s, i).solver; }),
   };
 }
 

@@ -217,4 +217,14 @@ const char* name(Fill fill) {
   return "?";
 }
 
+const char* name(FlowSolver solver) {
+  switch (solver) {
+    case FlowSolver::Explicit:
+      return "explicit";
+    case FlowSolver::Implicit:
+      return "implicit";
+  }
+  return "?";
+}
+
 }  // namespace lava

@@ -309,9 +309,10 @@ std::string checkpointBytes(const Scene& scene, const State& state) {
   // A flow's temperatures and crust flags (empty without one) join the checksum.
   const std::string temperature = bytesOf(state.temperature.data(), state.temperature.size());
   const std::string crust = bytesOf(state.crust.data(), state.crust.size());
+  const std::string pressure = bytesOf(state.pressure.data(), state.pressure.size());
   uint64_t checksum = common::kFnvOffset;
   for (const std::string* part : std::initializer_list<const std::string*>{
-           &format, &sceneText, &step, &clock, &particles, &temperature, &crust})
+           &format, &sceneText, &step, &clock, &particles, &temperature, &crust, &pressure})
     checksum = common::fnv1a(checksum, part->data(), part->size());
   const uint64_t hash = stateHash(state.particles);
   const uint64_t slots = state.particles.size();
@@ -325,6 +326,8 @@ std::string checkpointBytes(const Scene& scene, const State& state) {
     members.push_back({"temperature.npy", common::npyHeader("'<f4'", shapeOf(slots)) + temperature});
     members.push_back({"crust.npy", common::npyHeader("'|u1'", shapeOf(slots)) + crust});
   }
+  if (!state.pressure.empty())
+    members.push_back({"pressure.npy", common::npyHeader("'<f4'", shapeOf(slots)) + pressure});
   members.push_back({"state.npy", common::npyHeader("'<f4'", shapeOf(slots, common::stateColumns(state))) + common::stateTable(state)});
   members.push_back({"hash.npy", common::npyHeader("'<u8'", "(1,)") + bytesOf(&hash, 1)});
   members.push_back({"checksum.npy", common::npyHeader("'<u8'", "(1,)") + bytesOf(&checksum, 1)});
@@ -365,13 +368,17 @@ Snapshot parseCheckpoint(const std::string& bytes, const std::string& name) {
       flow ? npyData(r, members, "temperature", "'<f4'", shapeOf(slots)) : std::string();
   const std::string crust =
       flow ? npyData(r, members, "crust", "'|u1'", shapeOf(slots)) : std::string();
+  const bool implicit = members.count("pressure.npy") != 0;  // an implicit flow's pressures
+  const std::string pressure =
+      implicit ? npyData(r, members, "pressure", "'<f4'", shapeOf(slots)) : std::string();
   if (step.size() != 8 || clock.size() != emitters * 20 || particles.size() != slots * 32 ||
       hash.size() != 8 || checksum.size() != 8 ||
-      (flow && (temperature.size() != slots * 4 || crust.size() != slots)))
+      (flow && (temperature.size() != slots * 4 || crust.size() != slots)) ||
+      (implicit && pressure.size() != slots * 4))
     r.fail("truncated (an array is shorter than its shape)");
   uint64_t sum = common::kFnvOffset, expected = 0;
   for (const std::string* part : std::initializer_list<const std::string*>{
-           &format, &sceneText, &step, &clock, &particles, &temperature, &crust})
+           &format, &sceneText, &step, &clock, &particles, &temperature, &crust, &pressure})
     sum = common::fnv1a(sum, part->data(), part->size());
   std::memcpy(&expected, checksum.data(), 8);
   if (kCompareSums && sum != expected)
@@ -400,6 +407,9 @@ Snapshot parseCheckpoint(const std::string& bytes, const std::string& name) {
   if (!temperature.empty())
     std::memcpy(s.state.temperature.data(), temperature.data(), temperature.size());
   s.state.crust.assign(crust.begin(), crust.end());
+  s.state.pressure.resize(pressure.size() / 4);
+  if (!pressure.empty())
+    std::memcpy(s.state.pressure.data(), pressure.data(), pressure.size());
   uint64_t stored = 0;
   std::memcpy(&stored, hash.data(), 8);
   if (stateHash(s.state.particles) != stored) r.fail("state hash mismatch (the file is corrupt)");

@@ -23,6 +23,9 @@ void Simulation::setScene(const Scene& scene) {
   if (bool(scene.flow) != bool(scene_.flow))
     throw InvalidArgument("flow", std::string("a running simulation keeps ") +
                                       (scene_.flow ? "its flow" : "to no flow"));
+  if (scene.flow && scene.flow->solver != scene_.flow->solver)
+    throw InvalidArgument("flow.solver", std::string("a running simulation keeps its solver (") +
+                                             lava::name(scene_.flow->solver) + ")");
   for (size_t k = 0; k < scene.emitters.size(); ++k)
     if (scene.emitters[k].flow != scene_.emitters[k].flow)
       throw InvalidArgument("emitter[" + std::to_string(k) + "].flow",

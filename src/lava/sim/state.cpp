@@ -31,12 +31,17 @@ uint64_t availableHostMemory() {
   return available;
 }
 
+bool implicitFlow(const Scene& scene) {
+  return scene.flow && scene.flow->solver == FlowSolver::Implicit;
+}
+
 }  // namespace
 
 void checkHostMemory(const Scene& scene) {
   // A state and one copy of it (what state() returns), each slot's particle and, with a
   // flow, its temperature and crust flag.
-  const uint64_t perSlot = sizeof(Particle) + (scene.flow ? sizeof(float) + 1 : 0);
+  const uint64_t perSlot = sizeof(Particle) + (scene.flow ? sizeof(float) + 1 : 0) +
+                          (implicitFlow(scene) ? sizeof(float) : 0);
   const uint64_t need = 2 * scene.particles() * perSlot;
   const uint64_t available = availableHostMemory();
   if (need > available)
@@ -56,6 +61,7 @@ State initialState(const Scene& scene) {
     state.temperature.assign(scene.particles(), 0.0f);
     state.crust.assign(scene.particles(), 0);
   }
+  if (implicitFlow(scene)) state.pressure.assign(scene.particles(), 0.0f);
   return state;
 }
 
@@ -76,6 +82,11 @@ void checkState(const Scene& scene, const State& state) {
                                        (scene.flow ? "has a flow of " + std::to_string(flowSlots) +
                                                          " slots"
                                                    : std::string("has no flow")));
+  const size_t pressures = implicitFlow(scene) ? state.particles.size() : 0;
+  if (state.pressure.size() != pressures)
+    throw InvalidArgument("state", "has " + std::to_string(state.pressure.size()) +
+                                       " pressures; the scene's flow needs " +
+                                       std::to_string(pressures));
   for (size_t k = 0; k < state.clocks.size(); ++k)
     if (state.clocks[k].head >= scene.emitters[k].particles)
       throw InvalidArgument("state", "emitter " + std::to_string(k) + "'s head " +
@@ -94,6 +105,8 @@ uint64_t stateHash(const State& state) {
   if (!state.temperature.empty())
     hash = common::fnv1a(hash, state.temperature.data(), state.temperature.size() * sizeof(float));
   if (!state.crust.empty()) hash = common::fnv1a(hash, state.crust.data(), state.crust.size());
+  if (!state.pressure.empty())
+    hash = common::fnv1a(hash, state.pressure.data(), state.pressure.size() * sizeof(float));
   return hash;
 }
 

@@ -1,0 +1,596 @@
+// The implicit flow on the CPU (docs/model.md, "The implicit flow"). A step is cut into
+// substeps by a CFL bound; each substep finds every particle's neighbours once, solves the
+// viscosity implicitly (a Jacobi-preconditioned conjugate gradient per component, its sums in
+// flow index order), projects the velocities onto the density constraint by Jacobi iterations,
+// and moves. Plain float32, built with -ffp-contract=off: every sum in an order fixed by the
+// state, gathers only, the same bits for any thread count.
+#include <algorithm>
+#include <cmath>
+
+#include "flow.h"
+#include "flow/stepper-inl.h"
+#include "sim/constants.h"
+#include "sim/reference.h"
+
+namespace lava::detail {
+namespace {
+
+using namespace flowcpu;
+using flowcpu::tiny;
+
+constexpr uint32_t kBlock = gpu::kWorkgroupSize;
+// The density constraint's relaxation: a fraction of the rest lattice's squared gradients.
+constexpr double kRelax = 1e-6;
+// The CFL bound: a substep moves no particle more than this many rest spacings.
+constexpr double kCourant = 0.4;
+// The CG stops once every component's residual is this small beside its right side.
+constexpr float kTolerance = 1e-5f;
+// A liquid particle whose predicted theta is within this of 1 is in the bulk: pressed, or
+// carrying its neighbours' pressure; below it, a free surface's.
+constexpr float kSurface = 0.02f;
+// The density constraint's CG stops once its residual is this small beside its right side.
+constexpr float kPressureTolerance = 1e-4f;
+// The share of a compression beyond rest undone in one substep: all of it at once kicks the
+// particles apart faster than the flow moves.
+constexpr float kCorrection = 0.3f;
+
+V of(const V3f& v) {
+  return {v.x, v.y, v.z};
+}
+V3f stored(const V& v) {
+  return {v.x, v.y, v.z};
+}
+V tiny(const V& v) {
+  return {tiny(v.x), tiny(v.y), tiny(v.z)};
+}
+// Component by component.
+V times(const V& a, const V& b) {
+  return {a.x * b.x, a.y * b.y, a.z * b.z};
+}
+
+// In place: s[0] becomes the sum of s[0..kBlock) by halving, as a workgroup's shared memory.
+float halving(float* s) {
+  for (uint32_t stride = kBlock / 2; stride > 0; stride >>= 1)
+    for (uint32_t t = 0; t < stride; ++t) s[t] = s[t] + s[t + stride];
+  return s[0];
+}
+
+// The sum of term(f) over flow indices f < n as the GPU takes it: each block of kBlock
+// indices by halving; then invocation t of one workgroup adds the blocks t, t + kBlock, ...
+// in order, and those kBlock sums are halved.
+template <class Term>
+float orderedSum(size_t n, const Term& term) {
+  const size_t blocks = (n + kBlock - 1) / kBlock;
+  std::vector<float> partial(blocks);
+  float s[kBlock];
+  for (size_t b = 0; b < blocks; ++b) {
+    for (uint32_t t = 0; t < kBlock; ++t) s[t] = b * kBlock + t < n ? term(b * kBlock + t) : 0.0f;
+    partial[b] = halving(s);
+  }
+  for (uint32_t t = 0; t < kBlock; ++t) {
+    float sum = 0.0f;
+    for (size_t k = t; k < blocks; k += kBlock) sum = sum + partial[k];
+    s[t] = sum;
+  }
+  return halving(s);
+}
+
+// The three components' sums of a per-flow-index vector term.
+template <class Term>
+V orderedSums(size_t n, const Term& term) {
+  return {orderedSum(n, [&](size_t f) { return term(f).x; }),
+          orderedSum(n, [&](size_t f) { return term(f).y; }),
+          orderedSum(n, [&](size_t f) { return term(f).z; })};
+}
+
+// A solid near a particle: its distance (0 inside), its outward normal, its friction.
+struct Wall {
+  float d;
+  V n;
+  float friction;
+};
+
+// A pair's viscous weights with j mirrored in each solid near i (across the plane through
+// i's nearest point of it, when j lies outside that plane): t^2 plus each image's t^2 on i's
+// diagonal, times (2 friction - 1) on its coupling to j. d = x_i - x_j.
+void mirrored(const Wall* near, uint32_t walls, const V& d, float invRadius2, float t2,
+              float& diagonal, float& coupling) {
+  diagonal = coupling = t2;
+  for (uint32_t b = 0; b < walls; ++b) {
+    const float dj = near[b].d - dot(d, near[b].n);
+    if (!(dj > 0.0f)) continue;
+    const V mirror = d + (2.0f * dj) * near[b].n;
+    const float tm = 1.0f - dot(mirror, mirror) * invRadius2;
+    if (!(tm > kPairCut)) continue;
+    diagonal = diagonal + tm * tm;
+    coupling = coupling + near[b].friction * (tm * tm);
+  }
+}
+
+}  // namespace
+
+ImplicitConstants implicitConstants(const Scene& scene) {
+  const Flow& f = *scene.flow;
+  const double radius = f.radius, v0 = restVolume(scene);
+  const double s0 = std::cbrt(v0), lattice = latticeSum(s0, radius);
+  ImplicitConstants k{};
+  // A solid's density: the half-space beyond it filled at rest, sum (1 - r/radius)^3 / S over
+  // it as an integral, 2 pi radius^3 / (S V0) U^5 (3 - 2U) / 60 at U = 1 - d/radius; scaled so
+  // that a particle half a spacing above a solid on the rest lattice has theta = 1.
+  double upper = 0.0, gradients = 0.0;
+  forLattice(s0, radius, [&](int, int, int c, double r) {
+    const double u = 1.0 - r / radius;
+    if (c >= 0) upper += u * u * u;
+    if (r > 0.0) gradients += std::pow(3.0 / (lattice * radius) * u * u, 2);
+  });
+  const double half = 1.0 - 0.5 * s0 / radius;
+  const double continuum = 2.0 * kPi * radius * radius * radius / (lattice * v0);
+  const double scale =
+      (1.0 - upper / lattice) / (continuum * std::pow(half, 5) * (3.0 - 2.0 * half) / 60.0);
+  k.phi = float(scale * continuum / 60.0);
+  k.slope = float(-scale * continuum / (20.0 * radius));
+  k.epsilon = float(kRelax * gradients);
+  k.tolerance2 = kTolerance * kTolerance;
+  k.pressureTolerance2 = kPressureTolerance * kPressureTolerance;
+  k.near = float(s0);
+  k.coolAir = f.coolingAir;
+  k.coolContact = float(double(f.coolingAir) + f.coolingGround);
+  k.invStep = float(1.0 / double(scene.h()));
+  for (uint32_t n = 1; n <= kMaxSubsteps; ++n) {
+    k.cfl2[n - 1] = float(std::pow(double(n) * kCourant * s0, 2));
+    k.inverse[n - 1] = float(1.0 / double(n));
+  }
+  return k;
+}
+
+void FlowStepper::implicitStep(State& state) {
+  killNonFinite(state);
+  float fastest = 0.0f;  // the largest squared speed of a flow particle that may move
+  for (uint32_t i : flowSlots_) {
+    const Particle& p = state.particles[i];
+    if (!(p.age < 0.0f) && state.crust[i] == 0)
+      fastest = std::max(fastest, (p.vx * p.vx + p.vy * p.vy) + p.vz * p.vz);
+  }
+  const float h = reference_.scene().h();
+  const float h2 = h * h;
+  uint32_t n = 1;
+  while (n < kMaxSubsteps && !(h2 * fastest <= ik_.cfl2[n - 1])) ++n;
+  for (uint32_t k = 0; k < n; ++k) substep(state, ik_.inverse[n - 1], n);
+}
+
+void FlowStepper::substep(State& state, float fraction, uint32_t substeps) {
+  const float hs = reference_.scene().h() * fraction;
+  sort(state);
+  for (size_t f = 0; f < flowSlots_.size(); ++f) {
+    const uint32_t i = flowSlots_[f];
+    Own& o = own_[f];
+    o.liquid = !(state.particles[i].age < 0.0f) && state.crust[i] == 0 &&
+               state.temperature[i] > k_.solidus;
+    o.nu = flowViscosity(k_, state.temperature[i]);
+  }
+  gatherNeighbours(state, hs);
+  viscousSystem(state, hs, fraction);
+  solveViscosity(hs);
+  const float invHs = ik_.invStep * float(substeps);
+  solveDensity(state, hs, invHs);
+  move(state, hs, fraction, invHs);
+}
+
+// Calls visit(d, u, n, friction) for the ground and each collider within the radius of x: d
+// its distance (0 inside), u = 1 - d/radius, n its outward normal. A collider is taken as the
+// plane of its nearest face.
+template <class Visit>
+void FlowStepper::walls(float x, float y, float z, const Visit& visit) const {
+  const Scene& s = reference_.scene();
+  const V at{x, y, z};
+  const auto offer = [&](float d, const V& n, float friction) {
+    const float clamped = std::max(d, 0.0f);
+    const float u = 1.0f - clamped * k_.invRadius;
+    if (u > 0.0f) visit(clamped, u, n, friction);
+  };
+  offer(y, V{0.0f, 1.0f, 0.0f}, s.friction);
+  for (size_t c = 0; c < s.colliders.size(); ++c) {
+    const Collider& col = s.colliders[c];
+    const V d = at - Model::of(col.position);
+    switch (col.type) {
+      case ColliderType::Plane: {
+        const V n = Model::of(reference_.planeNormal(c));
+        offer(dot(d, n), n, col.friction);
+        break;
+      }
+      case ColliderType::Sphere: {
+        const float q = dot(d, d);
+        if (!(q >= gpu::kAxisSquared)) {
+          offer(-col.radius, V{0.0f, 1.0f, 0.0f}, col.friction);
+          break;
+        }
+        const float inv = Model::inverseRoot(q);
+        offer(q * inv - col.radius, inv * d, col.friction);
+        break;
+      }
+      case ColliderType::Box: {
+        const Vec3& e = col.size;
+        const bool standing = col.position.y <= e.y;  // its bottom face is the ground's
+        const float gx = std::fabs(d.x) - e.x, gz = std::fabs(d.z) - e.z;
+        const float gy = standing ? d.y - e.y : std::fabs(d.y) - e.y;
+        if (gx >= gy && gx >= gz)
+          offer(gx, V{d.x >= 0.0f ? 1.0f : -1.0f, 0.0f, 0.0f}, col.friction);
+        else if (gy >= gz)
+          offer(gy, V{0.0f, standing || d.y >= 0.0f ? 1.0f : -1.0f, 0.0f}, col.friction);
+        else
+          offer(gz, V{0.0f, 0.0f, d.z >= 0.0f ? 1.0f : -1.0f}, col.friction);
+        break;
+      }
+      case ColliderType::Cone: {
+        const ConeConstants& k = reference_.cone(c);
+        const float ry = col.baseRadius + k.slope * d.y;
+        const float q = d.x * d.x + d.z * d.z;
+        const bool offAxis = q >= gpu::kAxisSquared;  // on the axis: the radial direction is +x
+        const float inv = offAxis ? Model::inverseRoot(q) : 0.0f;
+        const float rx = offAxis ? d.x * inv : 1.0f, rz = offAxis ? d.z * inv : 0.0f;
+        const float rho = offAxis ? q * inv : 0.0f;
+        const float side = (rho - ry) * k.radial, top = d.y - col.height;
+        if (top > side)
+          offer(top, V{0.0f, 1.0f, 0.0f}, col.friction);
+        else
+          offer(side, V{k.radial * rx, k.vertical, k.radial * rz}, col.friction);
+        break;
+      }
+    }
+  }
+}
+
+// Each alive particle's neighbours (at most kNeighbourCap, in the grid's order), its density
+// ratio with the solids' share, its constraint's gradients, the solids' viscous weight, the
+// conduction's stability, and whether it touches crust or a solid.
+void FlowStepper::gatherNeighbours(const State& state, float hs) {
+  const float conduction = hs * k_.conduction;
+  parallel(sorted_.size(), [&](size_t e) {
+    const uint32_t i = sorted_[e], f = indexOf_[i];
+    const Particle& p = state.particles[i];
+    Own& o = own_[f];
+    // The solids near i: their density share, and its own images for the viscosity.
+    Wall near[kMaxColliders + 1];
+    uint32_t walls = 0;
+    // The solids fill 1 - prod (1 - phi_b) of the missing density: each solid's half-space,
+    // their overlaps (edges, corners) once. open = prod (1 - phi_b), slope its gradient.
+    float open = 1.0f, own = 0.0f;
+    V slope{0.0f, 0.0f, 0.0f};
+    this->walls(p.px, p.py, p.pz, [&](float d, float u, const V& n, float friction) {
+      const float u4 = (u * u) * (u * u);
+      const float phi = ik_.phi * ((u4 * u) * (3.0f - 2.0f * u));
+      const float dphi = ik_.slope * (u4 * (5.0f - 4.0f * u));
+      slope = (1.0f - phi) * slope - (open * dphi) * n;
+      open = open * (1.0f - phi);
+      const float t = 1.0f - ((4.0f * d) * d) * k_.invRadius2;
+      if (t > kPairCut) own = own + (2.0f - 2.0f * friction) * (t * t);
+      near[walls++] = {d, n, 2.0f * friction - 1.0f};
+    });
+    Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+    uint32_t count = 0;
+    float theta = 0.0f, moving = 0.0f, conductive = 0.0f;
+    V grad{0.0f, 0.0f, 0.0f};
+    bool touches = false;
+    neighbours(state, i, [&](uint32_t j, const V& d, float q, float t) {
+      if (j != i && count == kNeighbourCap) return;
+      const FlowWeights& w = weights_[emitterOfSlot_[j]];
+      V n;
+      const float tr = std::max(1.0f - distance(q, d, i, j, n) * k_.invRadius, 0.0f);
+      theta = theta + w.density * ((tr * tr) * tr);
+      if (j == i) return;
+      const uint32_t g = indexOf_[j];
+      const V unit = (tr * tr) * n;  // the constraint's gradient towards j is -pressure unit
+      const V push = w.pressure * unit;
+      grad = grad - push;
+      if (own_[g].liquid) moving = moving + dot(push, push);
+      const float t2 = t * t;
+      float diagonal, coupling;
+      mirrored(near, walls, d, k_.invRadius2, t2, diagonal, coupling);
+      conductive = conductive + tiny(w.viscous * t2);
+      touches = touches || (state.crust[j] != 0 && q < k_.touch2);
+      list[count++] = {g, t2, diagonal, coupling, stored(unit)};
+    });
+    theta = theta + (1.0f - open);
+    const V gradWall{-slope.x, -slope.y, -slope.z};
+    grad = grad + gradWall;
+    bool close = false;
+    for (uint32_t b = 0; b < walls; ++b) close = close || near[b].d < ik_.near;
+    count_[f] = count;
+    o.theta = theta;
+    o.invG = reciprocal(hs * ((dot(grad, grad) + moving) + ik_.epsilon));
+    o.wallViscous = own;
+    o.conductive = stable(conduction * conductive);
+    o.touches = touches || close;
+    o.near = close;
+    gradWall_[f] = stored(gradWall);
+  });
+}
+
+// The velocities after the forces and the viscosity: per liquid particle i,
+//   (m_i + sum_j a_ij + wall_i) v_i - sum_{liquid j} a_ij v_j = m_i v*_i + sum_{solid j} a_ij v_j
+// with m the volume in V0, a_ij = hs m_i viscous_j (nu_i + nu_j) t^2, wall_i =
+// 2 hs m_i nu_i wallViscous_i, v* the start-of-substep velocity after the forces; solved by
+// CG from the start-of-substep velocities, each component on its own.
+float FlowStepper::viscousCoefficient(uint32_t f, uint32_t j, float hs) const {
+  const float hsm = hs * weights_[emitterOfSlot_[flowSlots_[f]]].volume;
+  return (hsm * weights_[emitterOfSlot_[flowSlots_[j]]].viscous) * (own_[f].nu + own_[j].nu);
+}
+
+// The viscosity's system: each liquid row's diagonal, right side b, and the CG's start from
+// the substep's start velocities (its residual r, z = r / D, direction p = z).
+void FlowStepper::viscousSystem(const State& state, float hs, float fraction) {
+  const Scene& s = reference_.scene();
+  const auto velocity = [&](uint32_t f) {
+    const Particle& p = state.particles[flowSlots_[f]];
+    return V{p.vx, p.vy, p.vz};
+  };
+  parallel(flowSlots_.size(), [&](size_t e) {
+    const uint32_t f = uint32_t(e), i = flowSlots_[f];
+    Own& o = own_[f];
+    const V v0 = velocity(f);
+    v_[f] = stored(v0);
+    if (!o.liquid) return;
+    const Particle& p = state.particles[i];
+    const size_t emitter = emitterOfSlot_[i];
+    const EmitterConstants& ek = reference_.constants(emitter);
+    const float m = weights_[emitter].volume;
+    const V vstar = Model::flushed(
+        v0 + (ek.hm * fraction) * Model::force<Modules::Any>(s, V{p.px, p.py, p.pz}, v0, ek.w));
+    float sum = 0.0f;
+    V fixed{0.0f, 0.0f, 0.0f}, pull{0.0f, 0.0f, 0.0f};
+    const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+    for (uint32_t k = 0; k < count_[f]; ++k) {
+      const float a = viscousCoefficient(f, list[k].j, hs);
+      sum = sum + a * list[k].diagonal;
+      const V term = tiny((a * list[k].coupling) * velocity(list[k].j));
+      if (own_[list[k].j].liquid)
+        pull = pull + term;
+      else
+        fixed = fixed + term;
+    }
+    o.diag = (m + sum) + (((hs * m) * weights_[emitter].viscous) * (o.nu + o.nu)) * o.wallViscous;
+    o.invDiag = reciprocal(o.diag);
+    const V b = m * vstar + fixed;
+    const V r = b - (o.diag * v0 - pull);
+    b_[f] = stored(b);
+    x_[f] = stored(v0);
+    r_[f] = stored(r);
+    z_[f] = stored(tiny(o.invDiag * r));
+    p_[f] = z_[f];
+  });
+}
+
+// The viscosity's CG, each component with its own alpha and beta, until its r.z is below
+// tolerance2 b.(b / D) or kViscousIterations.
+void FlowStepper::solveViscosity(float hs) {
+  const size_t n = flowSlots_.size();
+  const auto liquidTerm = [&](auto term) {
+    return [this, term](size_t f) { return own_[f].liquid ? tiny(term(f)) : V{0, 0, 0}; };
+  };
+  V rz = orderedSums(n, liquidTerm([&](size_t f) { return times(of(r_[f]), of(z_[f])); }));
+  const V bb = orderedSums(n, liquidTerm([&](size_t f) {
+    return times(of(b_[f]), own_[f].invDiag * of(b_[f]));
+  }));
+  const V limit = ik_.tolerance2 * bb;
+  bool active[3] = {rz.x > limit.x, rz.y > limit.y, rz.z > limit.z};
+  for (uint32_t k = 0; k < kViscousIterations && (active[0] || active[1] || active[2]); ++k) {
+    parallel(n, [&](size_t e) {  // q = A p
+      const uint32_t f = uint32_t(e);
+      const Own& o = own_[f];
+      if (!o.liquid) return;
+      V pull{0.0f, 0.0f, 0.0f};
+      const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+      for (uint32_t c = 0; c < count_[f]; ++c)
+        if (own_[list[c].j].liquid)
+          pull = pull +
+                 tiny((viscousCoefficient(f, list[c].j, hs) * list[c].coupling) * of(p_[list[c].j]));
+      q_[f] = stored(tiny(o.diag * of(p_[f])) - pull);
+    });
+    const V pq = orderedSums(n, liquidTerm([&](size_t f) { return times(of(p_[f]), of(q_[f])); }));
+    float alpha[3], beta[3];
+    const float rzs[3] = {rz.x, rz.y, rz.z}, pqs[3] = {pq.x, pq.y, pq.z};
+    for (int c = 0; c < 3; ++c) {
+      active[c] = active[c] && pqs[c] > 0.0f;
+      alpha[c] = active[c] ? rzs[c] * reciprocal(pqs[c]) : 0.0f;
+    }
+    const V a{alpha[0], alpha[1], alpha[2]};
+    parallel(n, [&](size_t e) {
+      const uint32_t f = uint32_t(e);
+      if (!own_[f].liquid) return;
+      x_[f] = stored(of(x_[f]) + tiny(times(a, of(p_[f]))));
+      const V r = of(r_[f]) - tiny(times(a, of(q_[f])));
+      r_[f] = stored(r);
+      z_[f] = stored(tiny(own_[f].invDiag * r));
+    });
+    const V next = orderedSums(n, liquidTerm([&](size_t f) { return times(of(r_[f]), of(z_[f])); }));
+    const float nexts[3] = {next.x, next.y, next.z}, limits[3] = {limit.x, limit.y, limit.z};
+    float kept[3];
+    for (int c = 0; c < 3; ++c) {
+      beta[c] = active[c] ? nexts[c] * reciprocal(rzs[c]) : 0.0f;
+      kept[c] = active[c] ? nexts[c] : rzs[c];
+      active[c] = active[c] && nexts[c] > limits[c];
+    }
+    rz = V{kept[0], kept[1], kept[2]};
+    const V bt{beta[0], beta[1], beta[2]};
+    parallel(n, [&](size_t e) {
+      const uint32_t f = uint32_t(e);
+      if (own_[f].liquid) p_[f] = stored(of(z_[f]) + tiny(times(bt, of(p_[f]))));
+    });
+  }
+  for (size_t f = 0; f < n; ++f)
+    if (own_[f].liquid) v_[f] = x_[f];
+}
+
+float FlowStepper::pressureOf(uint32_t f) const {
+  return weights_[emitterOfSlot_[flowSlots_[f]]].pressure;
+}
+
+// d theta_f / dt of velocities u: sum_j -pressure_j e_fj . (u_f - u_j) + gradWall . u_f.
+float FlowStepper::rateOf(uint32_t f, const std::vector<V3f>& u) const {
+  const V uf = of(u[f]);
+  float rate = 0.0f;
+  const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+  for (uint32_t c = 0; c < count_[f]; ++c)
+    rate = rate - tiny(pressureOf(list[c].j) * dot(of(list[c].e), uf - of(u[list[c].j])));
+  return rate + tiny(dot(of(gradWall_[f]), uf));
+}
+
+// The velocity change of liquid f from the multipliers m (0 outside the active set):
+// sum_j (m_f pressure_j + m_j pressure_f) e_fj - m_f gradWall_f, i.e. -J^T m.
+V3f FlowStepper::pushOf(uint32_t f, const std::vector<float>& m) const {
+  const float mine = pressureOf(f);
+  V dv{0.0f, 0.0f, 0.0f};
+  const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+  for (uint32_t c = 0; c < count_[f]; ++c)
+    dv = dv + tiny((m[f] * pressureOf(list[c].j) + m[list[c].j] * mine) * of(list[c].e));
+  return stored(dv - tiny(m[f] * of(gradWall_[f])));
+}
+
+// The density constraint on the velocities (docs/model.md, "The implicit flow"): for the
+// active liquid particles (compressing under the forces, or pressed at the last substep),
+// multipliers m with (J J^T + epsilon) m = C / hs, C = theta - 1 + hs J v the predicted
+// density error; solved by CG from the last substep's pressures, then m >= 0 kept and the
+// velocities moved by -J^T m.
+// q = (J J^T + epsilon) x on the active set: u = -J^T x, then q = -J u + epsilon x.
+void FlowStepper::multiplyDensity(const std::vector<float>& x, std::vector<float>& q) {
+  const size_t n = flowSlots_.size();
+  parallel(n, [&](size_t f) {
+    if (own_[f].liquid) u_[f] = pushOf(uint32_t(f), x);
+  });
+  parallel(n, [&](size_t f) {
+    q[f] = own_[f].active ? tiny(ik_.epsilon * x[f]) - rateOf(uint32_t(f), u_) : 0.0f;
+  });
+}
+
+// The density constraint's active set, right side and start: the last substep's pressures.
+void FlowStepper::densitySystem(const State& state, float hs, float invHs) {
+  parallel(flowSlots_.size(), [&](size_t e) {
+    const uint32_t f = uint32_t(e);
+    Own& o = own_[f];
+    u_[f] = V3f{0.0f, 0.0f, 0.0f};
+    if (!o.liquid) {
+      o.active = 0;
+      return;
+    }
+    const float warm = state.pressure[flowSlots_[f]];
+    // Compression beyond rest is undone in the substep; a sparser bulk is not pulled in.
+    const float c = kCorrection * std::max(o.theta - 1.0f, 0.0f) + hs * rateOf(f, v_);
+    rhs_[f] = c * invHs;
+    o.active = o.theta > 1.0f - kSurface || warm > 0.0f;
+    lambda_[f] = o.active ? warm * hs : 0.0f;
+  });
+}
+
+void FlowStepper::solveDensity(const State& state, float hs, float invHs) {
+  const size_t n = flowSlots_.size();
+  densitySystem(state, hs, invHs);
+  multiplyDensity(lambda_, aq_);
+  parallel(n, [&](size_t f) {
+    const Own& o = own_[f];
+    ar_[f] = o.active ? rhs_[f] - aq_[f] : 0.0f;
+    az_[f] = o.active ? tiny((o.invG * hs) * ar_[f]) : 0.0f;
+    ap_[f] = az_[f];
+  });
+  float rz = orderedSum(n, [&](size_t f) { return tiny(ar_[f] * az_[f]); });
+  const float bb = orderedSum(n, [&](size_t f) {
+    return own_[f].active ? tiny(rhs_[f] * ((own_[f].invG * hs) * rhs_[f])) : 0.0f;
+  });
+  const float limit = ik_.pressureTolerance2 * bb;
+  bool active = rz > limit;
+  for (uint32_t k = 0; k < kPressureIterations && active; ++k) {
+    multiplyDensity(ap_, aq_);
+    const float pq = orderedSum(n, [&](size_t f) { return tiny(ap_[f] * aq_[f]); });
+    if (!(pq > 0.0f)) break;
+    const float alpha = rz * reciprocal(pq);
+    parallel(n, [&](size_t f) {
+      if (!own_[f].active) return;
+      lambda_[f] = lambda_[f] + tiny(alpha * ap_[f]);
+      ar_[f] = ar_[f] - tiny(alpha * aq_[f]);
+      az_[f] = tiny((own_[f].invG * hs) * ar_[f]);
+    });
+    const float next = orderedSum(n, [&](size_t f) { return tiny(ar_[f] * az_[f]); });
+    const float beta = next * reciprocal(rz);
+    rz = next;
+    active = next > limit;
+    parallel(n, [&](size_t f) {
+      if (own_[f].active) ap_[f] = az_[f] + tiny(beta * ap_[f]);
+    });
+  }
+  parallel(n, [&](size_t f) { lambda_[f] = std::max(lambda_[f], 0.0f); });
+  parallel(n, [&](size_t f) {
+    if (!own_[f].liquid) return;
+    v_[f] = stored(of(v_[f]) + of(pushOf(uint32_t(f), lambda_)));
+    own_[f].total = lambda_[f];
+  });
+}
+
+// The heat flow f gains from its neighbours in the substep: the explicit flow's sum over its
+// kept neighbours, `conduction` = hs 2 conduction.
+float FlowStepper::conducted(const State& state, uint32_t f, float conduction) const {
+  const std::vector<float>& temperature = state.temperature;
+  const uint32_t i = flowSlots_[f];
+  float dT = 0.0f;
+  const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+  for (uint32_t c = 0; c < count_[f]; ++c) {
+    const uint32_t j = flowSlots_[list[c].j];
+    dT = dT + tiny(((weights_[emitterOfSlot_[j]].viscous * conduction) * list[c].t2) *
+                   std::min(own_[f].conductive, own_[list[c].j].conductive) *
+                   (temperature[j] - temperature[i]));
+  }
+  return dT;
+}
+
+// The substep's move: liquid particles with their solved velocities, cinders falling, crust
+// kept; then the solids' contact, heat and age, as the explicit flow's step.
+void FlowStepper::move(State& state, float hs, float fraction, float invHs) {
+  const Scene& s = reference_.scene();
+  const float conduction = hs * k_.conduction;
+  std::vector<Particle>& particles = state.particles;
+  const std::vector<float>& temperature = state.temperature;
+  next_.resize(sorted_.size());
+  parallel(sorted_.size(), [&](size_t e) {
+    const uint32_t i = sorted_[e], f = indexOf_[i];
+    const Own& o = own_[f];
+    const size_t emitter = emitterOfSlot_[i];
+    const Particle& p = particles[i];
+    const bool isCrust = state.crust[i] != 0;
+    const float dT = conducted(state, f, conduction);
+    const V x0{p.px, p.py, p.pz};
+    V x = x0, v{p.vx, p.vy, p.vz};
+    bool touched = false, becomesCrust = isCrust, dies = false;
+    if (!isCrust) {
+      const EmitterConstants& ek = reference_.constants(emitter);
+      if (o.liquid) {
+        v = Model::flushed(of(v_[f]));
+        x = x + hs * v;
+      } else if (o.touches) {  // a solid touching crust or a solid: crust where it is
+        becomesCrust = true;
+      } else {  // a cinder: falls as any particle
+        v = Model::flushed(v + (ek.hm * fraction) * Model::force<Modules::Any>(s, x, v, ek.w));
+        x = x + hs * v;
+      }
+      touched = settle(contact_, reference_, x0, o.liquid, x, v, becomesCrust, dies);
+    }
+    const float cool = hs * (touched || o.near ? ik_.coolContact : ik_.coolAir);
+    float t1 = (temperature[i] + dT) - cool * (temperature[i] - k_.ambient);
+    float age = p.age + hs;
+    const float lifetime = s.emitters[emitter].lifetime;
+    if (dies || (lifetime > 0.0f && age >= lifetime)) {  // an unborn slot's temperature and flag
+      age = -1.0f;
+      t1 = 0.0f;
+      becomesCrust = false;
+    }
+    next_[e] = {{x.x, x.y, x.z, age, v.x, v.y, v.z, p.mass}, t1, uint8_t(becomesCrust ? 1 : 0)};
+    // The pressure the next substep starts from: a liquid particle's that stays liquid.
+    pressure_[f] = o.liquid && !dies && !(age < 0.0f) ? o.total * invHs : 0.0f;
+  });
+  for (size_t e = 0; e < sorted_.size(); ++e) {
+    const uint32_t i = sorted_[e];
+    particles[i] = next_[e].particle;
+    state.temperature[i] = next_[e].temperature;
+    state.crust[i] = next_[e].crust;
+    state.pressure[i] = pressure_[indexOf_[i]];
+  }
+}
+
+}  // namespace lava::detail

@@ -1,0 +1,154 @@
+// What both CPU flows share (cpu_flow.cpp, the explicit flow; cpu_implicit.cpp, the implicit
+// one): the float helpers both write in flow.comp's order, the rest lattice's sums, and the
+// FlowStepper's neighbour loop and threads. Included by those two files only, which are built
+// with -ffp-contract=off.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <thread>
+#include <vector>
+
+#include "flow.h"
+#include "sim/model-inl.h"
+#include "sim/reference.h"
+
+namespace lava::detail::flowcpu {
+
+using Model = scalar::Model<float>;
+using V = Model::V3;
+
+constexpr uint32_t kNotFlow = std::numeric_limits<uint32_t>::max();
+constexpr double kPi = 3.14159265358979323846;
+
+inline float tiny(float term) {
+  return std::fabs(term) < kTinyTerm ? 0.0f : term;
+}
+
+// 1/q from 1/sqrt(q) squared: multiplications only, the same bits everywhere.
+inline float reciprocal(float q) {
+  const float y = Model::inverseRoot(q);
+  return y * y;
+}
+
+// At most 1: the factor that keeps a particle's exchange rates summing to at most 1/2.
+inline float stable(float rate) {
+  return rate > 0.5f ? 0.5f * reciprocal(rate) : 1.0f;
+}
+
+// The rest spacing and volume of the first flow emitter's particles.
+inline double restVolume(const Scene& scene) {
+  for (const Emitter& e : scene.emitters)
+    if (e.flow) return double(e.mass) / double(scene.flow->density);
+  const double half = 0.5 * double(scene.flow->radius);
+  return half * half * half;
+}
+
+// visit(a, b, c, r) for every site (a, b, c) spacing of the cubic lattice around a point
+// (itself included) that is a pair (t > kPairCut), r its distance.
+template <class Visit>
+void forLattice(double spacing, double radius, const Visit& visit) {
+  const int n = int(std::ceil(radius / spacing));
+  for (int a = -n; a <= n; ++a)
+    for (int b = -n; b <= n; ++b)
+      for (int c = -n; c <= n; ++c) {
+        const double q = spacing * spacing * double(a * a + b * b + c * c);
+        if (1.0 - q / (radius * radius) <= double(kPairCut)) continue;
+        visit(a, b, c, std::sqrt(q));
+      }
+}
+
+// The sum of (1 - r/radius)^3 over the rest lattice around a point, itself included.
+inline double latticeSum(double spacing, double radius) {
+  double sum = 0.0;
+  forLattice(spacing, radius, [&](int, int, int, double r) {
+    const double u = 1.0 - r / radius;
+    sum += u * u * u;
+  });
+  return sum;
+}
+
+// The distance r of a pair and its unit direction n from j to i: coincident pairs (no
+// direction) are pushed apart along x, the lower slot towards -x.
+inline float distance(float q, const V& d, uint32_t i, uint32_t j, V& n) {
+  if (!(q >= kCoincident)) {
+    n = V{i < j ? -1.0f : 1.0f, 0.0f, 0.0f};
+    return 0.0f;
+  }
+  const float inv = Model::inverseRoot(q);
+  n = inv * d;
+  return q * inv;
+}
+
+// After a flow particle's move: a NaN or infinity dies with x = v = 0 (docs/model.md
+// "Non-finite values"); otherwise the ground and the colliders of `contact`, and a solid they
+// moved becomes crust there. Crust stops: v = 0. Returns whether a solid moved it.
+inline bool settle(const Scene& contact, const Reference& reference, const V& x0, bool liquid,
+                   V& x, V& v, bool& becomesCrust, bool& dies) {
+  bool touched = false;
+  if (!becomesCrust && Model::nonFinite(x, v)) {
+    x = v = V{0.0f, 0.0f, 0.0f};
+    dies = true;
+  } else if (!becomesCrust) {
+    float lost = 0.0f;
+    touched = Model::contact(contact, reference, x0, x, v, lost, true);
+    dies = lost < 0.0f;
+    becomesCrust = !liquid && touched;
+  }
+  if (becomesCrust) v = V{0.0f, 0.0f, 0.0f};
+  return touched;
+}
+
+}  // namespace lava::detail::flowcpu
+
+namespace lava::detail {
+
+// Calls visit(j, d, q, t) for every flow particle j within the radius of particle i (i
+// itself included): the cells z, then y, then x from -1 to +1, each bucket's first
+// kFlowBucketCap slots in order, and i after them when its own bucket holds it beyond them.
+template <class Visit>
+void FlowStepper::neighbours(const State& state, size_t i, const Visit& visit) const {
+  using flowcpu::V;
+  const Particle& p = state.particles[i];
+  const Cell c = cells_[i];
+  for (int32_t dz = -1; dz <= 1; ++dz)
+    for (int32_t dy = -1; dy <= 1; ++dy)
+      for (int32_t dx = -1; dx <= 1; ++dx) {
+        const Cell n{c.x + dx, c.y + dy, c.z + dz};
+        const uint32_t b = bucketOf(n, buckets_);
+        const uint32_t begin = start_[b], count = start_[b + 1] - begin;
+        uint32_t reads = std::min(count, gpu::kFlowBucketCap);
+        if (count > gpu::kFlowBucketCap && dx == 0 && dy == 0 && dz == 0 &&
+            i > sorted_[begin + gpu::kFlowBucketCap - 1])
+          ++reads;
+        for (uint32_t r = 0; r < reads; ++r) {
+          const uint32_t j = r < gpu::kFlowBucketCap ? sorted_[begin + r] : uint32_t(i);
+          if (!(cells_[j] == n)) continue;
+          const Particle& o = state.particles[j];
+          const V d{p.px - o.px, p.py - o.py, p.pz - o.pz};
+          const float q = dot(d, d);
+          const float t = 1.0f - q * k_.invRadius2;
+          if (t > kPairCut) visit(j, d, q, t);
+        }
+      }
+}
+
+// body(e) for e in [0, n), over the stepper's threads: each e writes only its own results,
+// so the threads change no bit.
+template <class Body>
+void FlowStepper::parallel(size_t n, const Body& body) const {
+  const size_t threads = n < 2048 ? 1 : threads_;
+  if (threads == 1) {
+    for (size_t e = 0; e < n; ++e) body(e);
+    return;
+  }
+  std::vector<std::thread> workers;
+  for (size_t t = 1; t < threads; ++t)
+    workers.emplace_back([&, t] {
+      for (size_t e = n * t / threads; e < n * (t + 1) / threads; ++e) body(e);
+    });
+  for (size_t e = 0; e < n / threads; ++e) body(e);
+  for (std::thread& w : workers) w.join();
+}
+
+}  // namespace lava::detail
