@@ -188,14 +188,11 @@ FlowStepper::FlowStepper(const Reference& reference, unsigned threads)
     for (std::vector<float>* v : {&lambda_, &rhs_, &ar_, &az_, &ap_, &aq_}) v->resize(flow);
     u_.resize(flow);
     count_.resize(flow);
-    for (std::vector<V3f>* v : {&gradWall_, &v_, &x_, &r_, &z_, &p_, &q_, &b_}) v->resize(flow);
+    for (std::vector<V3f>* v : {&gradWall_, &v_, &r_, &z_, &p_, &q_, &b_}) v->resize(flow);
   }
   cells_.resize(n);
-  theta_.resize(n);
-  pi_.resize(n);
-  viscosity_.resize(n);
-  viscous_.resize(n);
-  conductive_.resize(n);
+  if (!flowSlots_.empty()) return;  // the explicit flow's own per-slot results
+  for (std::vector<float>* v : {&theta_, &pi_, &viscosity_, &viscous_, &conductive_}) v->resize(n);
   touches_.resize(n);
 }
 
@@ -334,14 +331,9 @@ void FlowStepper::step(State& state) {
       touched = settle(contact_, reference_, x0, liquid, x, v, becomesCrust, dies);
     }
     const float cool = touched ? k_.coolContact : k_.coolAir;
-    float t1 = (temperature[i] + dT) - cool * (temperature[i] - k_.ambient);
-    float age = p.age + h;
-    const float lifetime = s.emitters[emitter].lifetime;
-    if (dies || (lifetime > 0.0f && age >= lifetime)) {  // an unborn slot's temperature and flag
-      age = -1.0f;
-      t1 = 0.0f;
-      becomesCrust = false;
-    }
+    float age, t1;
+    finish(s.emitters[emitter], k_.ambient, h, cool, p.age, temperature[i], dT, dies, age, t1,
+           becomesCrust);
     next_[e] = {{x.x, x.y, x.z, age, v.x, v.y, v.z, p.mass}, t1, uint8_t(becomesCrust ? 1 : 0)};
   });
   for (size_t e = 0; e < sorted_.size(); ++e) {

@@ -353,7 +353,6 @@ void FlowStepper::viscousSystem(const State& state, float hs, float fraction) {
     const V b = m * vstar + fixed;
     const V r = b - (o.diag * v0 - pull);
     b_[f] = stored(b);
-    x_[f] = stored(v0);
     r_[f] = stored(r);
     z_[f] = stored(tiny(o.invDiag * r));
     p_[f] = z_[f];
@@ -397,7 +396,7 @@ void FlowStepper::solveViscosity(float hs) {
     parallel(n, [&](size_t e) {
       const uint32_t f = uint32_t(e);
       if (!own_[f].liquid) return;
-      x_[f] = stored(of(x_[f]) + tiny(times(a, of(p_[f]))));
+      v_[f] = stored(of(v_[f]) + tiny(times(a, of(p_[f]))));
       const V r = of(r_[f]) - tiny(times(a, of(q_[f])));
       r_[f] = stored(r);
       z_[f] = stored(tiny(own_[f].invDiag * r));
@@ -417,8 +416,6 @@ void FlowStepper::solveViscosity(float hs) {
       if (own_[f].liquid) p_[f] = stored(of(z_[f]) + tiny(times(bt, of(p_[f]))));
     });
   }
-  for (size_t f = 0; f < n; ++f)
-    if (own_[f].liquid) v_[f] = x_[f];
 }
 
 float FlowStepper::pressureOf(uint32_t f) const {
@@ -572,14 +569,9 @@ void FlowStepper::move(State& state, float hs, float fraction, float invHs) {
       touched = settle(contact_, reference_, x0, o.liquid, x, v, becomesCrust, dies);
     }
     const float cool = hs * (touched || o.near ? ik_.coolContact : ik_.coolAir);
-    float t1 = (temperature[i] + dT) - cool * (temperature[i] - k_.ambient);
-    float age = p.age + hs;
-    const float lifetime = s.emitters[emitter].lifetime;
-    if (dies || (lifetime > 0.0f && age >= lifetime)) {  // an unborn slot's temperature and flag
-      age = -1.0f;
-      t1 = 0.0f;
-      becomesCrust = false;
-    }
+    float age, t1;
+    finish(s.emitters[emitter], k_.ambient, hs, cool, p.age, temperature[i], dT, dies, age, t1,
+           becomesCrust);
     next_[e] = {{x.x, x.y, x.z, age, v.x, v.y, v.z, p.mass}, t1, uint8_t(becomesCrust ? 1 : 0)};
     // The pressure the next substep starts from: a liquid particle's that stays liquid.
     pressure_[f] = o.liquid && !dies && !(age < 0.0f) ? o.total * invHs : 0.0f;

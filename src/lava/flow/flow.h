@@ -185,9 +185,10 @@ class FlowStepper {
     uint8_t liquid, touches, near, active;
   };
   std::vector<Own> own_;
-  // gradWall: the solids' share of grad theta; v: the velocity being solved; x, r, z, p, q,
-  // b: the CG's solution, residual, preconditioned residual, direction, A p and right side.
-  std::vector<V3f> gradWall_, v_, x_, r_, z_, p_, q_, b_;
+  // gradWall: the solids' share of grad theta; v: the velocity being solved (the viscosity's
+  // CG solves into it); r, z, p, q, b: the CG's residual, preconditioned residual,
+  // direction, A p and right side.
+  std::vector<V3f> gradWall_, v_, r_, z_, p_, q_, b_;
   std::vector<float> pressure_;  // the substep's results, written back with next_
   // The density constraint's CG: multipliers, right side, residual, preconditioned
   // residual, direction and product; u the velocity change of a product.

@@ -99,6 +99,20 @@ inline bool settle(const Scene& contact, const Reference& reference, const V& x0
   return touched;
 }
 
+// The end of a flow particle's step of h: T' = (T + dT) - cool (T - ambient) and its age; a
+// death, or a lifetime spent, leaves an unborn slot (age -1, T 0, no crust).
+inline void finish(const Emitter& emitter, float ambient, float h, float cool, float age0,
+                   float temperature, float dT, bool dies, float& age, float& t1,
+                   bool& becomesCrust) {
+  t1 = (temperature + dT) - cool * (temperature - ambient);
+  age = age0 + h;
+  if (dies || (emitter.lifetime > 0.0f && age >= emitter.lifetime)) {
+    age = -1.0f;
+    t1 = 0.0f;
+    becomesCrust = false;
+  }
+}
+
 }  // namespace lava::detail::flowcpu
 
 namespace lava::detail {
