@@ -9,6 +9,12 @@
 
 #include "lava/checkpoint.h"
 #include "lava/error.h"
+#include "sim/fuzzing.h"
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  lava::compareCheckpointSums(false);  // docs/fuzzing.md
+  return 0;
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string bytes(reinterpret_cast<const char*>(data), size);

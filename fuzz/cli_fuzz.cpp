@@ -8,6 +8,12 @@
 #include <vector>
 
 #include "cli.h"
+#include "sim/fuzzing.h"
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  lava::compareCheckpointSums(false);  // docs/fuzzing.md
+  return 0;
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::vector<std::string> words{"lava"};

@@ -17,14 +17,18 @@
 #      any path, error paths included, fails the run. Six gtest shards, two at a time.
 # The Python module is left out of this build: an instrumented extension needs the
 # sanitizer runtime preloaded into python3 itself.
+# It is Debian's clang++ with every warning an error (the code is not GCC's alone; the plain
+# build is GCC's), and it builds the fuzz targets too (LAVA_FUZZ): tests/fuzz.sh runs them
+# from this build, which spares CI a third build of the library.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # Line tables only (-g1): the reports' frames name file and line, and the build takes less
 # of CI's time than with full debug information.
-cmake -S . -B build-asan -DLAVA_SANITIZE=ON -DLAVA_BUILD_PYTHON=OFF \
+CC=clang CXX=clang++ cmake -S . -B build-asan -DLAVA_SANITIZE=ON -DLAVA_FUZZ=ON \
+      -DLAVA_BUILD_PYTHON=OFF -DCMAKE_CXX_FLAGS=-Werror \
       -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" \
       >/dev/null
-cmake --build build-asan -j2
+cmake --build build-asan -j2 || cmake --build build-asan -j1  # the second shows the error
 # The groups of the tests that load no Vulkan.
 novulkan='Random|Physics|Emission|StateIo|Compare|Integrators|Forces|Colliders|Denormals|SceneKeys|SceneToml|Spirv|Simd|Effects/SimdModules|FlowKeys|FlowState|FlowPhysics|FlowImplicit'
 # The flow's longest physics (a pool's spreading over seconds) are the plain suite's: the

@@ -110,8 +110,8 @@ TEST(SceneToml, BadDataNamesTheKeyAndTableIndex) {
       {"format = 3\n", "f: format"},
       {"[emitter]\nx = 1\n", "f: emitter"},
   };
-  for (const auto& [toml, parameter] : cases)
-    EXPECT_EQ(parameterOf([&] { parseScene(toml, "f"); }), parameter) << toml;
+  for (const auto& c : cases)  // no structured binding: a lambda cannot capture one in C++17
+    EXPECT_EQ(parameterOf([&] { parseScene(c.first, "f"); }), c.second) << c.first;
   std::string many;
   for (int i = 0; i < 17; ++i) many += "[[emitter]]\n";
   EXPECT_EQ(parameterOf([&] { parseScene(many, "f"); }), "f: emitter");
