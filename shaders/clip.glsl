@@ -2,7 +2,7 @@
 // x, y <= w, 0 <= z <= w). The lines are the same (up to the rounding of a clipped end, as the
 // rasteriser's own clipping would round it), but a software rasteriser (llvmpipe) sends every chunk
 // of a draw holding one vertex outside through its slow per-primitive clipping path, at a cost that
-// grows with the draw's size (docs/benchmarks-history.md, "Clipping in the vertex shader").
+// grows with the draw's size.
 
 // Where a primitive that draws nothing puts all its vertices: a zero-length line or a
 // zero-area triangle (no fragments on any rasteriser), inside the volume, on a pixel corner.

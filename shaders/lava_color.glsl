@@ -4,7 +4,7 @@
 const vec3 kOrange = vec3(1.0, 0.55, 0.08);
 const vec3 kRed = vec3(0.95, 0.06, 0.02);
 
-// The plain look: the seed's solid colours, added (and clipped) in an 8-bit target.
+// The plain look: the lab handout's solid colours, added (and clipped) in an 8-bit target.
 vec3 lavaColor(vec3 velocity, float age, vec4 style) {
   float hot = clamp(length(velocity) / style.y, 0.0, 1.0);
   float cooling = clamp(age / style.z, 0.0, 1.0);

@@ -3,8 +3,8 @@
 // Vertex pulling: vertex 2i is particle i's position x, vertex 2i+1 is x + s·v (the handout's
 // lines), read straight from the buffer step.comp writes, the line clipped to the view volume here
 // (clip.glsl). Unborn slots draw nothing. The buffer is read through its texel view (two RGBA32F
-// texels a particle): on llvmpipe a gather, where a storage-buffer load is a loop over the lanes
-// (docs/benchmarks-history.md, "Texel views"). The lava look stretches a line shorter than the
+// texels a particle): on llvmpipe a gather, where a storage-buffer load is a loop over the lanes.
+// The lava look stretches a line shorter than the
 // shortest drawn (d.target.w pixels) to it, keeping the energy of its true length, so that lava at
 // rest stays visible, and gives it its tone-mapped colour (lava_color.glsl).
 #extension GL_GOOGLE_include_directive : require

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_EXT_samplerless_texture_functions : require  // texelFetch on texel views
 // Turns splat.comp's fixed-point sums into colour over the scene: in the plain look the
-// seed's colour (blue a tint of red), added; in the lava look the energy tone mapped, for
+// lab handout's colour (blue a tint of red), added; in the lava look the energy tone mapped, for
 // the pipeline's blend src (1 - dst) + dst (lava_color.glsl).
 #extension GL_GOOGLE_include_directive : require
 #include "shared.h"

@@ -276,7 +276,7 @@ struct RockParams {
 };
 
 // The two looks (DrawParams.style.w, BackdropParams.eye.w).
-const float kLookPlain = 0.0;  // the seed's: orange to red by speed, darker with age, added
+const float kLookPlain = 0.0;  // the lab handout's: orange to red by speed, darker with age, added
 const float kLookLava = 1.0;   // molten rock: energy tone mapped as it is added, and glow
 
 // Push constants of lines.vert: camera and line style.
@@ -317,8 +317,8 @@ const uint kSplatFull = 50000u;
 // The sums are laid out in blocks of 2 x 8 pixels, one 64-byte cache line each, a column after
 // another (splatIndex): a line's next pixels often share its block, and the cores of a CPU device,
 // which add into the same sums, pass fewer cache lines between them. Tall blocks suit the lines,
-// which are mostly steep on screen (falling lava); 1 x 16 would cost shallow lines more
-// (docs/benchmarks-history.md measures the shapes). Two pixels one above the other, the upper on an
+// which are mostly steep on screen (falling lava); 1 x 16 would cost shallow lines more.
+// Two pixels one above the other, the upper on an
 // even row, are one 8-byte word: where the device has 64-bit atomics, one add covers both
 // (splat.comp, LAVA_SPLAT_PAIRS). The buffer covers the target rounded up to whole blocks.
 const uint kSplatBlockWidth = 2u;

@@ -83,7 +83,7 @@ void step(const World g, const Model e, inout precise vec3 x, inout precise vec3
     force(g, x1, vs, w, f1);
     v = v + e.hk * (f + f1);
     x = x1;
-  } else {  // explicit Euler (the seed): position with the start-of-step velocity
+  } else {  // explicit Euler (the lab handout's): position with the start-of-step velocity
     precise vec3 x1 = x + h * v;
     v = v + hm * f;
     x = x1;
@@ -182,7 +182,7 @@ State load(uint local) {
 
 // Four particles per invocation, a + k * stride: their step chains are independent, so
 // interleaving them hides each one's latency (lavapipe runs one SIMD vector of invocations
-// at a time; docs/benchmarks-history.md).
+// at a time).
 void main() {
   const uint steps = p.run.y;
   const uint count = p.chunk.y;

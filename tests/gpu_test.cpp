@@ -201,7 +201,7 @@ TEST_F(GpuTest, ManyChunksPastTheStorageBufferRange) {
 }
 
 TEST_F(GpuTest, SoakOfAMillionStepsStaysBoundedAndBitIdentical) {
-  const Scene s;  // the seed scene: 5000 slots, 1000/s, h = 1 ms
+  const Scene s;  // the default scene (the lab handout's): 5000 slots, 1000/s, h = 1 ms
   GpuSimulation gpu(device(), s);
   CpuSimulation cpu(s, 2, CpuKernel::Simd);  // the reference's bytes (Simd.*), in less time
   gpu.advance(1000000);

@@ -221,7 +221,7 @@ TEST_F(LookTest, GlowLightsPixelsNearBrightLavaButNotFarFromIt) {
 }
 
 TEST_F(LookTest, DenseLavaDoesNotBurnOutToWhite) {
-  // The seed's crater with 262,144 particles, every slot alive, at 1280x720: fewer than 1%
+  // The lab handout's crater with 262,144 particles, every slot alive, at 1280x720: fewer than 1%
   // of the pixels clipped white (all channels >= 250), and the fountain bright.
   Scene scene;
   scene.emitters[0].particles = 262144;

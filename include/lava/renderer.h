@@ -50,7 +50,7 @@ enum class LineMode { Lines, Splat };
 // fast, cooling to a dark crust that stays visible (a line at rest is drawn at least
 // 1.25 px long), its energy tone mapped as it is added (the target holds 1 - exp(-energy):
 // dense lava turns yellow instead of clipping to white) and glowing into its surroundings;
-// over a Backdrop drawn in the same look. Plain: the seed's colours, added and clipped.
+// over a Backdrop drawn in the same look. Plain: the lab handout's colours, added and clipped.
 enum class LookStyle { Lava, Plain };
 
 struct LookSettings {

@@ -21,8 +21,8 @@ namespace {
 // On a CPU device, llvmpipe (lavapipe) hands each of its threads one contiguous share of a
 // dispatch's workgroups, fixed in advance. The splat's work is uneven along the ring (young,
 // fast lava draws long lines; landed lava one pixel), so one thread finishes its share early
-// and its core idles while the other draws the rest (docs/benchmarks-history.md, "Two threads per
-// core"). With two threads per core the system's scheduler fills that core. Unless the user
+// and its core idles while the other draws the rest. With two threads per core the system's
+// scheduler fills that core. Unless the user
 // chose LP_NUM_THREADS, the demo sets it before any Vulkan call; returns the value it set,
 // or 0. No other driver reads it.
 unsigned oversubscribeCpuDevice() {

@@ -47,7 +47,7 @@ void DemoPanel::build(const char* device, const std::function<DemoFigures()>& fi
   }
 
   // Closed at start: the panel is drawn every frame, and on a CPU device a short panel
-  // costs a fraction of a long one (docs/benchmarks-history.md).
+  // costs a fraction of a long one.
   if (ImGui::CollapsingHeader("scene")) {
     switch (scene_.draw(running)) {
       case ScenePanel::Change::Live:

@@ -383,9 +383,9 @@ class Demo {
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     VK_CHECK(vkBeginCommandBuffer(commands, &begin));
-    // Timed about ten times a second (a timed frame costs a CPU device a pass over every tile;
-    // docs/benchmarks-history.md), and the
-    // last frame of a run of --frames N, so that its summary has GPU times however fast it ran.
+    // Timed about ten times a second (a timed frame costs a CPU device a pass over every
+    // tile), and the last frame of a run of --frames N, so that its summary has GPU times
+    // however fast it ran.
     const double now = glfwGetTime();
     const bool timed = now - lastTimed_ >= 0.1 || now < lastTimed_ || lastOfRun;
     if (timed) {

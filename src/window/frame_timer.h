@@ -3,7 +3,7 @@
 // fence has signalled, so no frame waits on vkGetQueryPoolResults: lavapipe drains the
 // whole queue there, which kept the demo at one frame in flight. Only some frames are
 // timed (the caller chooses): on lavapipe each timestamp is a pass of the rasteriser's
-// threads over every tile (docs/benchmarks-history.md).
+// threads over every tile.
 #pragma once
 #include <vulkan/vulkan.h>
 

@@ -1,7 +1,7 @@
 // Presents through X11 MIT-SHM, for CPU Vulkan devices (lavapipe). Mesa 22's software WSI
 // sends every frame through the X socket as one PutImage request when the server has no
 // DRI3 (Xvfb, Xvnc, ...): at 1280x720 the server's and the client's share of that copy
-// costs more CPU than drawing 262,144 lines (docs/benchmarks-history.md). Here each frame slot
+// costs more CPU than drawing 262,144 lines. Here each frame slot
 // has a System V shared-memory XImage the server reads in place, and renders straight into
 // it: a linear color image over that memory (VK_EXT_external_memory_host). Where the
 // device cannot, the slot renders offscreen, reads the frame back and copies it there.

@@ -2,7 +2,7 @@
 // render pass). The panel is opaque and drawn into an image of its own only when it changed
 // (ImGui's draw data differs from the last drawn); each frame copies its windows' rectangles over
 // the scene. On a CPU device that is the difference between shading and blending every pixel of the
-// panel each frame and a memcpy of its rows (docs/benchmarks-history.md). A target that takes no
+// panel each frame and a memcpy of its rows. A target that takes no
 // copies gets the panel drawn over it, in a pass of its own.
 #pragma once
 #include <vulkan/vulkan.h>

@@ -434,8 +434,8 @@ void LineRenderer::setExtent(VkExtent2D extent) {
                detail::groupCount(extent.height, gpu::kSplatBlockHeight) * gpu::kSplatBlockWidth *
                gpu::kSplatBlockHeight;
   // The draws read the sums through a texel view where one holds them (on llvmpipe a
-  // gather, where a storage-buffer load is a loop over the lanes; docs/benchmarks-history.md,
-  // "Texel views"); 720p needs 921,600 texels, more than the spec's minimum of 65,536.
+  // gather, where a storage-buffer load is a loop over the lanes); 720p needs 921,600
+  // texels, more than the spec's minimum of 65,536.
   const bool sumTexels = m.sumCount <= m.c.limits.maxTexelBufferElements;
   // The glow's cells the same (the minimum holds 4K's 32,400 cells, not 8K's 129,600).
   const bool cellTexels = cells <= m.c.limits.maxTexelBufferElements;

@@ -282,7 +282,7 @@ struct Model {
 
   // One step of emitter `emitter`'s particles in the lanes: the integrator, the ground, the
   // colliders in order, the lifetime. Lanes not alive (age < 0) keep their state.
-  // Use::Euler: the seed's scene (explicit Euler, no forces, colliders or lifetimes), the
+  // Use::Euler: the lab handout's crater scene (explicit Euler, no forces, colliders or lifetimes), the
   // same operations with the other modules' code left out.
   template <Modules Use>
   static LAVA_LANES_INLINE void step(const Reference& r, size_t emitter, V3& x, V3& v, Float& age) {

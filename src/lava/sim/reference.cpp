@@ -90,7 +90,7 @@ void Reference::stepWith(size_t emitter, Particle& q) const {
 }
 
 // Flattened: the step is inlined into the loop over the block, so the independent chains of
-// neighbouring particles overlap in the CPU's pipeline (docs/benchmarks-history.md).
+// neighbouring particles overlap in the CPU's pipeline.
 template <Modules Use>
 [[gnu::flatten]] void Reference::runWith(size_t emitter, const std::vector<Births>& schedule,
                                          uint32_t first, Particle* slots, size_t count) const {

@@ -14,7 +14,7 @@
 
 namespace lava::detail {
 
-// Euler: the seed's scene (explicit Euler, no forces, colliders or lifetimes), stepped with
+// Euler: the lab handout's crater scene (explicit Euler, no forces, colliders or lifetimes), stepped with
 // the other modules' code left out. Any: everything.
 enum class Modules { Euler, Any };
 
