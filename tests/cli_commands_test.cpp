@@ -216,6 +216,37 @@ TEST(Render, StartsFromACheckpoint) {
   EXPECT_NE(r.err.find("--resume"), std::string::npos) << r.err;
 }
 
+TEST(Render, TheCpuBackendStepsWhatTheDeviceDraws) {
+  // The flow's module scene stepped by the CPU backends and drawn by the device: the frames
+  // of the device's own run, byte for byte (the same states).
+  const std::string scene = std::string(LAVA_SOURCE_DIR) + "/scenes/modules/flow.toml";
+  const std::string flags = " --scene " + scene + " --warmup 0.1 --frames 2 --fps 10 --size 96x64";
+  std::string frames[3];
+  const char* backends[] = {"gpu", "cpu --threads 2", "cpu-simd"};
+  for (int k = 0; k < 3; ++k) {
+    const std::string folder = scratch(std::string("backend-") + char('a' + k));
+    const Result r = lava("render --backend " + std::string(backends[k]) + flags + " --out " + folder);
+    ASSERT_EQ(r.status, 0) << backends[k] << ": " << r.err;
+    frames[k] = readFile(folder + "/frame_00001.png");
+    EXPECT_EQ(frames[k], frames[0]) << backends[k];
+  }
+  // The implicit flow, which the GPU backend refuses, is drawn so: the rock moved otherwise.
+  const std::string folder = scratch("backend-implicit"), implicitScene = scratch("implicit.toml");
+  {
+    std::ofstream out(implicitScene);
+    out << readFile(scene) << "solver = \"implicit\"\n";  // [flow] is the file's last table
+  }
+  const std::string again = " --scene " + implicitScene + flags.substr(flags.find(" --warmup"));
+  Result r = lava("render --backend gpu" + again + " --out " + folder);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("flow.solver"), std::string::npos) << r.err;
+  r = lava("render --backend cpu" + again + " --out " + folder);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string implicit = readFile(folder + "/frame_00001.png");
+  EXPECT_EQ(implicit.substr(0, 4), "\x89PNG");
+  EXPECT_NE(implicit, frames[0]);
+}
+
 TEST(Render, VideoEncodesWithFfmpegOrSaysItIsMissing) {
   // Both branches in every run: ffmpeg missing from the PATH, and a stand-in ffmpeg that
   // records what it was given (no shell between: a quote in a path is just a character);

@@ -131,6 +131,8 @@ const BadInput kBadInputs[] = {
     {"simulate", "--steps"},
     {"simulate --steps 10 --lava-temperature 3", "--lava-temperature"},
     {"simulate --steps 10 --backend tpu", "--backend"},
+    {"render --frames 1 --out hostile-frames --backend gpu,cpu", "--backend"},
+    {"render --frames 1 --out hostile-frames --threads 1025", "--threads"},
     {"simulate --steps 10 --threads -2", "--threads"},
     {"simulate --steps 10 --out /nonexistent/dir/state.npy", "--out"},
     {"simulate --steps 10 --out state.txt", "--out"},

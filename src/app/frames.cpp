@@ -52,7 +52,7 @@ LineMode parseLineMode(const std::string& source, const std::string& text) {
 void addLookFlags(Options& options, LookOptions& look) {
   options.add("look",
               "lava (molten rock: cooling crust, tone-mapped energy, glow) or plain (the "
-              "seed's added 1-pixel lines, for comparison) [lava]",
+              "lab handout's added 1-pixel lines, for comparison) [lava]",
               [&look](const std::string& src, const std::string& t) {
                 if (t == "lava")
                   look.style = LookStyle::Lava;
@@ -96,6 +96,7 @@ double renderFrames(Device& device, const Scene& scene, const FramePlan& plan) {
   run.lines = plan.lines;
   run.style = plan.look.style;
   run.look = plan.look.settings;
+  if (!plan.backend.gpu) run.cpu = {plan.backend.cpuThreads(), plan.backend.kernel};
   host::renderFrames(device, scene, run,
                      [&](uint32_t frame, const std::vector<uint8_t>& pixels) {
                        char name[32];

@@ -10,6 +10,7 @@
 #include "lava/renderer.h"
 #include "lava/scene.h"
 #include "lava/state.h"
+#include "options.h"
 #include "paths.h"
 
 namespace lava::app {
@@ -34,6 +35,7 @@ struct FramePlan {
   uint64_t seriesEvery = 0;
   LineMode lines = LineMode::Lines;
   LookOptions look;
+  BackendChoice backend;  // which steps the run; the device draws it
 };
 
 VkExtent2D parseSize(const std::string& source, const std::string& text);

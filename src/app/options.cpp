@@ -1,11 +1,13 @@
 #include "options.h"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <thread>
 
 #include "cli.h"
 #include "host/output.h"
@@ -169,6 +171,26 @@ void Options::resolve() {
 bool& parseOnlyMode() {
   static bool parseOnly = false;
   return parseOnly;
+}
+
+unsigned BackendChoice::cpuThreads() const {
+  return threads ? threads : std::max(1u, std::thread::hardware_concurrency());
+}
+
+void addBackendFlags(Options& options, BackendChoice& backend) {
+  options.add("backend",
+              "gpu (the Vulkan device), cpu (the reference) or cpu-simd (its SIMD twin, the "
+              "same bytes) [gpu]",
+              [&backend](const std::string& src, const std::string& t) {
+                if (t != "gpu" && t != "cpu" && t != "cpu-simd")
+                  throw UsageError(src + ": expected gpu, cpu or cpu-simd, got '" + t + "'");
+                backend.gpu = t == "gpu";
+                backend.kernel = t == "cpu-simd" ? CpuKernel::Simd : CpuKernel::Reference;
+              });
+  options.add("threads", "CPU backend threads, 0 = all cores, 0..1024 [0]",
+              [&backend](const std::string& src, const std::string& t) {
+                backend.threads = static_cast<unsigned>(parseInteger(src, t, 0, 1024));
+              });
 }
 
 void addSeriesFlags(Options& options, std::string& series, uint64_t& every) {

@@ -12,6 +12,7 @@
 
 #include "lava/scene.h"
 #include "lava/scene_keys.h"
+#include "lava/simulation.h"
 
 namespace CLI {
 class App;
@@ -26,6 +27,15 @@ double parseNumber(const std::string& source, const std::string& text, double lo
                    bool loOpen = false);
 
 class Options;
+
+// --backend gpu|cpu|cpu-simd and --threads (docs/cli.md, `lava simulate`).
+struct BackendChoice {
+  bool gpu = true;
+  CpuKernel kernel = CpuKernel::Reference;
+  unsigned threads = 0;  // 0: every core
+  unsigned cpuThreads() const;
+};
+void addBackendFlags(Options& options, BackendChoice& backend);
 
 // --series DIR and --every K (docs/cli.md, "Series"), and the check that both or neither
 // were given (after resolve()).

@@ -98,6 +98,7 @@ class RenderCommand final : public Command {
                  [this](const std::string& src, const std::string& t) {
                    plan_.lines = parseLineMode(src, t);
                  });
+    addBackendFlags(options_, plan_.backend);
     addLookFlags(options_, plan_.look);
     addSeriesFlags(options_, plan_.series, plan_.seriesEvery);
     options_.add(

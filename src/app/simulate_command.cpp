@@ -39,19 +39,7 @@ class SimulateCommand final : public Command {
           steps_ = parseInteger(src, t, 0, 1000000000);
         },
         true);
-    options_.add("backend",
-                 "gpu (the Vulkan device), cpu (the reference) or cpu-simd (its SIMD twin, "
-                 "the same bytes) [gpu]",
-                 [this](const std::string& src, const std::string& t) {
-                   if (t != "gpu" && t != "cpu" && t != "cpu-simd")
-                     throw UsageError(src + ": expected gpu, cpu or cpu-simd, got '" + t + "'");
-                   gpu_ = t == "gpu";
-                   kernel_ = t == "cpu-simd" ? CpuKernel::Simd : CpuKernel::Reference;
-                 });
-    options_.add("threads", "CPU backend threads, 0 = all cores, 0..1024 [0]",
-                 [this](const std::string& src, const std::string& t) {
-                   threads_ = static_cast<unsigned>(parseInteger(src, t, 0, 1024));
-                 });
+    addBackendFlags(options_, backend_);
     options_.add("out", "write the final state to FILE.npy or FILE.csv",
                  [this](const std::string& src, const std::string& t) {
                    checkStatePath(src, t);
@@ -86,13 +74,12 @@ class SimulateCommand final : public Command {
     if (resumed) checkResumedScene(scene_, resumed->scene);
     std::unique_ptr<Device> device;
     std::unique_ptr<Simulation> simulation;
-    if (gpu_) {
+    if (backend_.gpu) {
       device = std::make_unique<Device>(deviceOptions(device_));
       simulation = std::make_unique<GpuSimulation>(*device, scene_);
     } else {
-      const unsigned threads =
-          threads_ ? threads_ : std::max(1u, std::thread::hardware_concurrency());
-      simulation = std::make_unique<CpuSimulation>(scene_, threads, kernel_);
+      simulation =
+          std::make_unique<CpuSimulation>(scene_, backend_.cpuThreads(), backend_.kernel);
     }
     if (resumed) simulation->setState(resumed->state);
     std::optional<host::SeriesWriter> series;
@@ -224,9 +211,7 @@ class SimulateCommand final : public Command {
   Scene scene_;
   std::optional<unsigned> device_;
   uint64_t steps_ = 0;
-  bool gpu_ = true;
-  CpuKernel kernel_ = CpuKernel::Reference;
-  unsigned threads_ = 0;
+  BackendChoice backend_;
   std::string out_;
   std::string checkpoint_;
   uint64_t every_ = 0;

@@ -188,8 +188,7 @@ bool FrameRenderer::copyBackdrop(VkCommandBuffer commands, uint32_t frame,
 // while the other cores wait; the host does it sooner, while the device still works on the
 // previous frame. The cached colour is read back once (this frame), then written by the host
 // from the next frame in this slot on, when the read-back has surely finished. Not under
-// the splat, whose long dispatches keep every core busy: there it does not pay
-// (docs/benchmarks-history.md, "The backdrop written by the host").
+// the splat, whose long dispatches keep every core busy: there it does not pay.
 bool FrameRenderer::writeBackdropFromHost(VkCommandBuffer commands, uint32_t frame,
                                           const FrameTarget& target) {
   if (lines_.mode() == LineMode::Splat) return false;
@@ -271,9 +270,30 @@ std::vector<uint8_t> renderOffscreen(const Submitter& submitter, FrameRenderer& 
   return target.pixels();
 }
 
+namespace {
+
+// What the device draws of a run the CPU steps: the scene with the flow's explicit solver
+// (the only one the GPU flow builds; it never steps here) and each state without the
+// implicit flow's pressures, which drawing does not read.
+Scene drawnScene(Scene scene) {
+  if (scene.flow) scene.flow->solver = FlowSolver::Explicit;
+  return scene;
+}
+
+State drawnState(const State& state) {
+  State s = state;
+  s.pressure.clear();
+  return s;
+}
+
+}  // namespace
+
 void renderFrames(Device& device, const Scene& scene, const FrameRun& run,
                   const std::function<void(uint32_t, const std::vector<uint8_t>&)>& sink) {
-  GpuSimulation simulation(device, scene);
+  std::optional<CpuSimulation> cpu;
+  if (run.cpu) cpu.emplace(scene, run.cpu->threads, run.cpu->kernel);
+  GpuSimulation drawn(device, cpu ? drawnScene(scene) : scene);
+  Simulation& simulation = cpu ? static_cast<Simulation&>(*cpu) : drawn;
   FrameRenderer renderer(device, OffscreenTarget::kColorFormat, run.style);
   renderer.setLineMode(run.lines);
   renderer.setSettings(run.look);
@@ -283,7 +303,8 @@ void renderFrames(Device& device, const Scene& scene, const FrameRun& run,
   if (run.start) simulation.setState(*run.start);
   std::optional<SeriesWriter> series;
   if (!run.series.empty()) {
-    series.emplace(run.series, run.seriesEvery, simulation.step(), run.start.has_value());
+    series.emplace(run.series, run.seriesEvery, run.start ? run.start->step : 0,
+                   run.start.has_value());
     series->sampleIfDue(simulation);
   }
   const auto advance = [&](uint64_t steps) {
@@ -294,8 +315,9 @@ void renderFrames(Device& device, const Scene& scene, const FrameRun& run,
   common::StepAccumulator owed;
   for (uint32_t frame = 0; frame < run.frames; ++frame) {
     if (frame > 0) advance(owed.take(stepsPerFrame));
+    if (cpu) drawn.setState(drawnState(cpu->view()));
     camera.yaw = 0.6f + 0.15f * float(frame / run.fps);  // a slow orbit
-    sink(frame, renderOffscreen(submitter, renderer, simulation, target, camera));
+    sink(frame, renderOffscreen(submitter, renderer, drawn, target, camera));
   }
 }
 

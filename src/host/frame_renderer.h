@@ -96,6 +96,14 @@ struct FrameRun {
   // "Series"), continued when the run starts from `start`; none when empty.
   std::string series;
   uint64_t seriesEvery = 0;
+  // Stepped by the CPU backend (docs/cli.md, `lava render`) and drawn by the device, which is
+  // given the state before each frame: the same bytes as the GPU's steps, and the implicit
+  // flow, which runs on the CPU backends only. None: the device steps it.
+  struct CpuStepping {
+    unsigned threads = 1;
+    CpuKernel kernel = CpuKernel::Reference;
+  };
+  std::optional<CpuStepping> cpu;
 };
 // `sink` receives each frame's RGBA8 pixels (rows of size.width, top first) in order; an
 // exception from it ends the run.
