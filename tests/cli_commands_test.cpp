@@ -130,6 +130,30 @@ TEST(Demo, WithoutADisplayRendersHeadlessAndSaysWhere) {
   EXPECT_EQ(readFile(folder + "/frame_00001.png").substr(0, 4), "\x89PNG");
 }
 
+TEST(Demo, TheCpuStepsTheImplicitFlowAndSaysSo) {
+  // The GPU steps the explicit flow only: the demo has the CPU step an implicit one (the
+  // device draws it) unless --backend names the GPU, which refuses it naming the key.
+  const std::string scene = scratch("demo-implicit.toml"), folder = scratch("demo-implicit");
+  {
+    std::ofstream out(scene);
+    out << readFile(std::string(LAVA_SOURCE_DIR) + "/scenes/modules/flow.toml")
+        << "solver = \"implicit\"\n";  // [flow] is the file's last table
+  }
+  const std::string flags = "demo --headless --frames 2 --size 96x64 --scene " + scene;
+  Result r = lava(flags + " --out " + folder);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("demo: cpu-simd steps the run on"), std::string::npos) << r.out;
+  EXPECT_EQ(readFile(folder + "/frame_00001.png").substr(0, 4), "\x89PNG");
+  r = lava(flags + " --backend gpu --out " + folder);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("flow.solver"), std::string::npos) << r.err;
+  r = lava(flags + " --backend cpu --threads 1 --out " + folder);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("demo: cpu steps the run on 1 thread, the device draws it"),
+            std::string::npos)
+      << r.out;
+}
+
 TEST(Bench, WritesTheJsonItPromises) {
   const std::string json = scratch("bench.json");
   const Result r = lava("bench --sizes 4096,8192 --steps 20 --json " + json);

@@ -154,6 +154,19 @@ awk -v d="${draw:-0}" 'BEGIN { exit !(d > 0) }' ||
 out=$(xvfb-run -a -s "$screen" "$lava" demo --frames 30 --size 320x180 2>&1)
 echo "default: $out"
 echo "$out" | grep -q ", MIT-SHM; GPU" || { echo "FAIL: lavapipe on Xvfb did not pick MIT-SHM"; exit 1; }
+# The implicit flow, which the GPU does not step: the CPU steps it and the device draws each
+# frame's state in the window, saying so, with the validation layers silent.
+implicit="$work/implicit.toml"
+{ cat "$(dirname "$0")/../scenes/modules/flow.toml"; echo 'solver = "implicit"'; } > "$implicit"
+out=$(xvfb-run -a -s "$screen" "$lava" demo --scene "$implicit" --frames 20 --size 320x180 2>&1)
+status=$?
+echo "implicit flow: $out"
+[ $status -eq 0 ] || { echo "FAIL: lava demo of the implicit flow exited $status"; exit 1; }
+summary "$out" 20
+echo "$out" | grep -q "^demo: cpu-simd steps the run on [0-9]* threads* (the implicit flow runs" ||
+  { echo "FAIL: the demo did not say that the CPU steps the implicit flow"; exit 1; }
+echo "$out" | grep -q "GPU per frame: draw [0-9.]* ms; cpu-simd steps: [0-9.]* ms" ||
+  { echo "FAIL: no CPU step time in the summary"; exit 1; }
 # Unless the user chose LP_NUM_THREADS, the demo runs llvmpipe with two threads per core
 # (and says so); a choice of the user's stands.
 cores=$(nproc)

@@ -66,6 +66,7 @@ class DemoCommand final : public Command {
                  [this](const std::string& src, const std::string& t) {
                    demo_.warmup = parseNumber(src, t, 0, 600);
                  });
+    addBackendFlags(options_, backend_);
     options_.addFlag("headless", "render PNG frames offscreen instead of a window", headless_);
     options_.addFlag("vsync",
                      "present with FIFO (vsync) through the swapchain; default: fastest mode",
@@ -91,15 +92,24 @@ class DemoCommand final : public Command {
     demo_.lines = lines_.value_or(defaultLineMode(demo_.scene.particles()));
     if (demo_.vsync && demo_.present == window::PresentPath::Shm)
       throw UsageError("--vsync: needs --present swapchain (MIT-SHM has no vsync)");
+    chooseStepper();
     if (!headless_) {
       try {
         const window::DemoSummary s = window::runDemoWindow(demo_);
+        char times[160];
+        if (demo_.cpu)
+          std::snprintf(times, sizeof(times), "GPU per frame: draw %.2f ms; %s steps: %.2f ms",
+                        s.drawMs, backend_.kernel == CpuKernel::Simd ? "cpu-simd" : "cpu",
+                        s.simulateMs);
+        else
+          std::snprintf(times, sizeof(times), "GPU per frame: simulate %.2f ms, draw %.2f ms",
+                        s.simulateMs, s.drawMs);
         std::printf(
             "demo: %u frames in %.2f s, average %.1f fps (%ux%u, %llu particles, %s, %s; "
-            "GPU per frame: simulate %.2f ms, draw %.2f ms; CPU per frame %.2f ms)\n",
+            "%s; CPU per frame %.2f ms)\n",
             s.frames, s.seconds, s.seconds > 0 ? s.frames / s.seconds : 0.0, s.size.width,
             s.size.height, static_cast<unsigned long long>(demo_.scene.particles()),
-            s.device.c_str(), s.presentMode.c_str(), s.simulateMs, s.drawMs,
+            s.device.c_str(), s.presentMode.c_str(), times,
             s.frames ? 1e3 * s.cpuSeconds / s.frames : 0.0);
         sayThreads(threads, s.device);
         return s.validationMessages ? 1 : 0;
@@ -114,6 +124,7 @@ class DemoCommand final : public Command {
     plan.lines = demo_.lines;
     plan.look = look_;
     plan.warmup = demo_.warmup;
+    plan.backend = backend_;
     Device device(deviceOptions(demo_.device));
     const double seconds = renderFrames(device, demo_.scene, plan);
     std::printf(
@@ -127,7 +138,22 @@ class DemoCommand final : public Command {
   }
 
  private:
+  // The CPU steps the run with --backend cpu or cpu-simd, and the implicit flow's unless
+  // --backend says otherwise (the GPU runs the explicit flow only); the device draws it.
+  void chooseStepper() {
+    const bool implicit = demo_.scene.flow && demo_.scene.flow->solver == FlowSolver::Implicit;
+    const bool chosen = options_.given("backend");
+    if (implicit && !chosen) backend_ = {false, CpuKernel::Simd, backend_.threads};
+    if (backend_.gpu) return;
+    demo_.cpu = host::FrameRun::CpuStepping{backend_.cpuThreads(), backend_.kernel};
+    std::printf("demo: %s steps the run on %u thread%s%s, the device draws it\n",
+                backend_.kernel == CpuKernel::Simd ? "cpu-simd" : "cpu", demo_.cpu->threads,
+                demo_.cpu->threads == 1 ? "" : "s",
+                chosen ? "" : " (the implicit flow runs on the CPU backends)");
+  }
+
   Options options_;
+  BackendChoice backend_;
   window::DemoOptions demo_;
   LookOptions look_;
   std::optional<LineMode> lines_;  // --renderer; unset: defaultLineMode

@@ -270,11 +270,6 @@ std::vector<uint8_t> renderOffscreen(const Submitter& submitter, FrameRenderer& 
   return target.pixels();
 }
 
-namespace {
-
-// What the device draws of a run the CPU steps: the scene with the flow's explicit solver
-// (the only one the GPU flow builds; it never steps here) and each state without the
-// implicit flow's pressures, which drawing does not read.
 Scene drawnScene(Scene scene) {
   if (scene.flow) scene.flow->solver = FlowSolver::Explicit;
   return scene;
@@ -285,8 +280,6 @@ State drawnState(const State& state) {
   s.pressure.clear();
   return s;
 }
-
-}  // namespace
 
 void renderFrames(Device& device, const Scene& scene, const FrameRun& run,
                   const std::function<void(uint32_t, const std::vector<uint8_t>&)>& sink) {

@@ -105,6 +105,12 @@ struct FrameRun {
   };
   std::optional<CpuStepping> cpu;
 };
+// What the device draws of a run the CPU steps: the scene with the flow's explicit solver
+// (the only one the GPU flow builds; it never steps there), and each state without the
+// implicit flow's pressures, which drawing does not read.
+Scene drawnScene(Scene scene);
+State drawnState(const State& state);
+
 // `sink` receives each frame's RGBA8 pixels (rows of size.width, top first) in order; an
 // exception from it ends the run.
 void renderFrames(Device& device, const Scene& scene, const FrameRun& run,

@@ -7,7 +7,7 @@ namespace lava::window {
 
 void DemoPanel::build(const char* device, const std::function<DemoFigures()>& figures,
                       DemoControls& controls, host::FrameRenderer& renderer,
-                      GpuSimulation& simulation, Scene& running) {
+                      Simulation& simulation, Scene& running) {
   if (!controls.showPanel) return;
   // The figures are refreshed four times a second: readable, and a panel that did not
   // change is not drawn again (Ui::record copies the one it drew).

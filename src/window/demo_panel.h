@@ -31,7 +31,7 @@ class DemoPanel {
   // live scene edit goes to `simulation` and, when it takes it, to `running`.
   // `figures` is asked only when the shown figures are refreshed (four times a second).
   void build(const char* device, const std::function<DemoFigures()>& figures,
-             DemoControls& controls, host::FrameRenderer& renderer, GpuSimulation& simulation,
+             DemoControls& controls, host::FrameRenderer& renderer, Simulation& simulation,
              Scene& running);
 
   // The scene a restart would run.

@@ -154,7 +154,7 @@ class Demo {
                      ? Surface(device_.handles().instance, window_.handle)
                      : Surface()),
         format_(windowFormat(path_, device_, surface_.handle)),
-        simulation_(std::make_unique<GpuSimulation>(device_, scene_, simulationOptions())),
+        simulation_(drawing(scene_)),
         renderer_(device_, format_.format, options.style),
         timer_(device_, kFramesInFlight) {
     if (path_ == PresentPath::Shm)
@@ -165,7 +165,9 @@ class Demo {
     if (!presenter_->resize(framebufferSize())) throw NoDisplay("the window has no area");
     renderer_.setLineMode(options.lines);
     renderer_.setSettings(options.look);
-    simulation_->advance(scene_.stepsIn(options.warmup));
+    if (options.cpu) cpu_ = stepping(scene_);
+    stepper().advance(scene_.stepsIn(options.warmup));
+    showCpuState();
     simulatedSeconds_ = double(scene_.stepsIn(options.warmup)) * double(scene_.h());
     ui_ = std::make_unique<Ui>(device_, window_.handle, format_.format, presenter_->imageCount());
     createFrameSlots();
@@ -227,6 +229,43 @@ class Demo {
     return o;
   }
 
+  // The device's simulation of `scene`: it steps it, or only draws what the CPU steps.
+  std::unique_ptr<GpuSimulation> drawing(const Scene& scene) {
+    if (!options_.cpu) return std::make_unique<GpuSimulation>(device_, scene, simulationOptions());
+    drawnToml_ = toToml(scene);
+    return std::make_unique<GpuSimulation>(device_, host::drawnScene(scene), simulationOptions());
+  }
+
+  std::unique_ptr<CpuSimulation> stepping(const Scene& scene) const {
+    return std::make_unique<CpuSimulation>(scene, options_.cpu->threads, options_.cpu->kernel);
+  }
+
+  // The simulation that steps the run, the one the panel edits.
+  Simulation& stepper() { return cpu_ ? static_cast<Simulation&>(*cpu_) : *simulation_; }
+
+  // The CPU's state to the device, which draws it (its own submission, ordered after the
+  // frames in flight; GpuSimulation::setState).
+  void showCpuState() {
+    if (cpu_) simulation_->setState(host::drawnState(cpu_->view()));
+  }
+
+  void stepOnCpu(uint32_t steps) {
+    const auto start = std::chrono::steady_clock::now();
+    cpu_->advance(steps);
+    showCpuState();
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    cpuMs_ = cpuMs_ > 0.0 ? 0.8 * cpuMs_ + 0.2 * ms : ms;
+  }
+
+  // The panel's live edits of the CPU's scene, to the device's copy that draws it.
+  void drawEdits() {
+    std::string toml = toToml(scene_);
+    if (toml == drawnToml_) return;
+    simulation_->setScene(host::drawnScene(scene_));
+    drawnToml_ = std::move(toml);
+  }
+
   void createFrameSlots() {
     VkDevice device = device_.handles().device;
     VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -253,7 +292,7 @@ class Demo {
   void readTimings(uint32_t index) {
     if (const std::optional<FrameTimes> t = timer_.read(index)) {
       const double keep = timedFrames_++ ? 0.8 : 0.0;
-      simulateMs_ = simulateMs_ * keep + (1.0 - keep) * t->simulateMs;
+      simulateMs_ = cpu_ ? cpuMs_ : simulateMs_ * keep + (1.0 - keep) * t->simulateMs;
       drawMs_ = drawMs_ * keep + (1.0 - keep) * t->drawMs;
     }
   }
@@ -299,7 +338,8 @@ class Demo {
           throw InvalidArgument(
               "particles", "this device holds at most " + std::to_string(device_.maxParticles()));
         simulation_.reset();
-        simulation_ = std::make_unique<GpuSimulation>(device_, next, simulationOptions());
+        simulation_ = drawing(next);
+        if (cpu_) cpu_ = stepping(next);
         scene_ = next;
         panel_.setMessage("restarted");
       } catch (const Error& e) {
@@ -308,11 +348,12 @@ class Demo {
           controls_.restart = controls_.reset = false;
           return;
         }
-        simulation_ = std::make_unique<GpuSimulation>(device_, scene_, simulationOptions());
+        simulation_ = drawing(scene_);
       }
     } else {
-      simulation_->setState(initialState(scene_));
+      stepper().setState(initialState(scene_));
     }
+    showCpuState();
     simulatedSeconds_ = 0.0;
     controls_.restart = controls_.reset = false;
     owed_.reset();
@@ -369,12 +410,17 @@ class Demo {
     ImGui::NewFrame();
     input_.apply(controls_, camera_);
     panel_.build(device_.properties().deviceName, [this] { return figures(); }, controls_,
-                 renderer_, *simulation_, scene_);
+                 renderer_, stepper(), scene_);
     ImGui::Render();
+    if (cpu_) drawEdits();
     applyRequests();
     const uint32_t steps = stepsFor(frameSeconds);
-    // This slot's previous frame has finished: its schedule may be planned over.
-    simulation_->update(index, steps);
+    if (cpu_) {
+      stepOnCpu(steps);
+    } else {
+      // This slot's previous frame has finished: its schedule may be planned over.
+      simulation_->update(index, steps);
+    }
     simulatedSeconds_ += double(steps) * double(scene_.h());
 
     VK_CHECK(vkResetFences(device, 1, &fence));
@@ -392,7 +438,7 @@ class Demo {
       lastTimed_ = now;
       timer_.recordStart(commands, index);
     }
-    simulation_->recordSimulate(commands, index);
+    if (!cpu_) simulation_->recordSimulate(commands, index);
     if (timed) timer_.recordSimulated(commands, index);
     const auto overlay = [&](VkCommandBuffer c) {
       if (controls_.showPanel) ui_->record(c, target);
@@ -415,7 +461,10 @@ class Demo {
   PresentPath path_;
   Surface surface_;
   VkSurfaceFormatKHR format_;
-  std::unique_ptr<GpuSimulation> simulation_;
+  std::unique_ptr<CpuSimulation> cpu_;  // steps the run, with --backend cpu or cpu-simd
+  std::string drawnToml_;               // the scene simulation_ draws, for cpu_ (before it)
+  double cpuMs_ = 0.0;                  // cpu_'s time a frame, smoothed
+  std::unique_ptr<GpuSimulation> simulation_;  // steps and draws the run, or draws cpu_'s
   host::FrameRenderer renderer_;
   FrameTimer timer_;
   std::unique_ptr<Presenter> presenter_;

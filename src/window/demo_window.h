@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "host/frame_renderer.h"
 #include "lava/renderer.h"
 #include "lava/scene.h"
 #include "presenter.h"
@@ -32,6 +33,9 @@ struct DemoOptions {
   double warmup = 0.0;  // seconds simulated before the first frame
   std::optional<unsigned> device;
   bool validation = false;
+  // Stepped by the CPU backend, the device drawing each frame's state (lava demo --backend);
+  // none: the device steps it.
+  std::optional<host::FrameRun::CpuStepping> cpu;
 };
 
 struct DemoSummary {
@@ -42,7 +46,8 @@ struct DemoSummary {
   std::string device;
   std::string presentMode;
   uint32_t validationMessages = 0;
-  double simulateMs = 0.0;  // GPU time per frame (smoothed timestamps) of the simulation
+  double simulateMs = 0.0;  // GPU time per frame (smoothed timestamps) of the simulation, or
+                            // the CPU's wall time when it steps the run (DemoOptions::cpu)
   double drawMs = 0.0;      // and of the draw
 };
 
