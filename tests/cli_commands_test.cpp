@@ -178,7 +178,7 @@ TEST(Bench, FlowRowsHaveTheirPairsAndCeiling) {
   for (const char* key :
        {"\"flow\"", "\"backend\": \"gpu\"", "\"backend\": \"cpu\"", "\"backend\": \"cpu-mt\"",
         "\"particles\": 600", "\"particle_steps_per_second\"", "\"pairs_per_second\"",
-        "\"ceiling_pairs_per_second\""})
+        "\"ceiling_pairs_per_second\"", "\"real_time_factor\""})
     EXPECT_NE(text.find(key), std::string::npos) << key << "\n" << text;
   // The slab's particles have tens of neighbours each (the rest lattice within the radius).
   for (const char* backend : {"\ngpu ", "\ncpu ", "\ncpu-mt "}) {
@@ -192,6 +192,32 @@ TEST(Bench, FlowRowsHaveTheirPairsAndCeiling) {
     EXPECT_GT(pairs, 20.0) << r.out;
     EXPECT_LT(pairs, 80.0) << r.out;
   }
+}
+
+TEST(Bench, TheImplicitFlowsRowsAreTheCpusWithTheirRealTimeFactor) {
+  const std::string scene = scratch("bench-implicit.toml");
+  {
+    std::ofstream out(scene);
+    out << "dt = 0.016666666666666666\n[flow]\nradius = 0.06\nsolver = \"implicit\"\n";
+  }
+  Result r = lava("bench --flow --sizes 600 --steps 2 --scene " + scene);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("implicit solver, dt 0.0166667 s"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("no gpu row"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("\ngpu "), std::string::npos) << r.out;
+  const size_t at = r.out.find("\ncpu ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  std::istringstream row(r.out.substr(at + 1));
+  std::string name;
+  double particles = 0, perSecond = 0, pairs = 0, pairsPerSecond = 0, ceiling = 0, fraction = 0,
+         realTime = 0;
+  row >> name >> particles >> perSecond >> pairs >> pairsPerSecond >> ceiling >> fraction >>
+      realTime;
+  // Simulated seconds a second: steps a second times dt.
+  EXPECT_NEAR(realTime, perSecond / particles / 60.0, 0.01 * realTime) << r.out;
+  r = lava("bench --flow --sizes 600 --steps 2 --backends gpu --scene " + scene);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("flow.solver"), std::string::npos) << r.err;
 }
 
 TEST(Bench, APointBurstReadsAtMostTheBucketCapOfNeighbours) {
