@@ -209,7 +209,7 @@ class BenchCommand final : public Command {
         const double steps = double(steps_);
         const double pairsPerSecond = pairs * steps / seconds;
         // Simulated seconds per wall second: 1 is real time.
-        const double realTime = steps * double(scene.h()) / seconds;
+        const double realTime = steps * double(scene_.h()) / seconds;  // the slab's dt
         std::printf("%-8s %10u %13.4g %9.1f %14.4g %14.4g %9.3f %11.4g\n", backend, n,
                     double(n) * steps / seconds, pairs / double(n), pairsPerSecond, ceiling,
                     pairsPerSecond / ceiling, realTime);
