@@ -5,10 +5,10 @@
 
 namespace lava::window {
 
-void DemoPanel::build(const char* device, const std::function<DemoFigures()>& figures,
+bool DemoPanel::build(const char* device, const std::function<DemoFigures()>& figures,
                       DemoControls& controls, host::FrameRenderer& renderer,
                       Simulation& simulation, Scene& running) {
-  if (!controls.showPanel) return;
+  if (!controls.showPanel) return false;
   // The figures are refreshed four times a second: readable, and a panel that did not
   // change is not drawn again (Ui::record copies the one it drew).
   const double now = glfwGetTime();
@@ -48,28 +48,36 @@ void DemoPanel::build(const char* device, const std::function<DemoFigures()>& fi
 
   // Closed at start: the panel is drawn every frame, and on a CPU device a short panel
   // costs a fraction of a long one.
-  if (ImGui::CollapsingHeader("scene")) {
-    switch (scene_.draw(running)) {
-      case ScenePanel::Change::Live:
-        try {
-          simulation.setScene(scene_.edited());
-          running = scene_.edited();
-          scene_.setMessage("");
-        } catch (const Error& e) {
-          scene_.setMessage(e.what());  // an invalid value: the running scene stays
-        }
-        break;
-      case ScenePanel::Change::Structure:
-        scene_.setMessage("emitters, their capacities or the flow's emitters changed: restart to "
-                          "apply");
-        break;
-      case ScenePanel::Change::None:
-        break;
-    }
-    if (ImGui::Button("restart with this scene")) controls.restart = true;
-  }
+  const bool edited =
+      ImGui::CollapsingHeader("scene") && editScene(controls, simulation, running);
   ImGui::TextDisabled("drag: orbit  right-drag: height  wheel: zoom  H: hide");
   ImGui::End();
+  return edited;
+}
+
+// The scene section: a live edit to `simulation` and `running` (true when taken), the restart.
+bool DemoPanel::editScene(DemoControls& controls, Simulation& simulation, Scene& running) {
+  bool edited = false;
+  switch (scene_.draw(running)) {
+    case ScenePanel::Change::Live:
+      try {
+        simulation.setScene(scene_.edited());
+        running = scene_.edited();
+        scene_.setMessage("");
+        edited = true;
+      } catch (const Error& e) {
+        scene_.setMessage(e.what());  // an invalid value: the running scene stays
+      }
+      break;
+    case ScenePanel::Change::Structure:
+      scene_.setMessage("emitters, their capacities or the flow's emitters changed: restart to "
+                        "apply");
+      break;
+    case ScenePanel::Change::None:
+      break;
+  }
+  if (ImGui::Button("restart with this scene")) controls.restart = true;
+  return edited;
 }
 
 }  // namespace lava::window

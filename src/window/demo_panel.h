@@ -28,9 +28,9 @@ class DemoPanel {
 
   // Builds this frame's panel (between ImGui::NewFrame and ImGui::Render), unless
   // controls.showPanel is off. The buttons set `controls`; the look goes to `renderer`; a
-  // live scene edit goes to `simulation` and, when it takes it, to `running`.
+  // live scene edit goes to `simulation` and, when it takes it, to `running` (then true).
   // `figures` is asked only when the shown figures are refreshed (four times a second).
-  void build(const char* device, const std::function<DemoFigures()>& figures,
+  bool build(const char* device, const std::function<DemoFigures()>& figures,
              DemoControls& controls, host::FrameRenderer& renderer, Simulation& simulation,
              Scene& running);
 
@@ -40,6 +40,8 @@ class DemoPanel {
   void setMessage(std::string message) { scene_.setMessage(std::move(message)); }
 
  private:
+  bool editScene(DemoControls& controls, Simulation& simulation, Scene& running);
+
   ScenePanel scene_;
   double shownAt_ = -1.0;  // glfwGetTime() when `shown_` was refreshed
   DemoFigures shown_;

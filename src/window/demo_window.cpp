@@ -231,9 +231,8 @@ class Demo {
 
   // The device's simulation of `scene`: it steps it, or only draws what the CPU steps.
   std::unique_ptr<GpuSimulation> drawing(const Scene& scene) {
-    if (!options_.cpu) return std::make_unique<GpuSimulation>(device_, scene, simulationOptions());
-    drawnToml_ = toToml(scene);
-    return std::make_unique<GpuSimulation>(device_, host::drawnScene(scene), simulationOptions());
+    return std::make_unique<GpuSimulation>(device_, options_.cpu ? host::drawnScene(scene) : scene,
+                                           simulationOptions());
   }
 
   std::unique_ptr<CpuSimulation> stepping(const Scene& scene) const {
@@ -249,6 +248,15 @@ class Demo {
     if (cpu_) simulation_->setState(host::drawnState(cpu_->view()));
   }
 
+  // The panel, its edits to the simulation that steps; a live edit the CPU took goes to the
+  // device's copy too, which draws it.
+  void buildPanel() {
+    const bool edited = panel_.build(device_.properties().deviceName,
+                                     [this] { return figures(); }, controls_, renderer_,
+                                     stepper(), scene_);
+    if (edited && cpu_) simulation_->setScene(host::drawnScene(scene_));
+  }
+
   void stepOnCpu(uint32_t steps) {
     const auto start = std::chrono::steady_clock::now();
     cpu_->advance(steps);
@@ -256,14 +264,6 @@ class Demo {
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     cpuMs_ = cpuMs_ > 0.0 ? 0.8 * cpuMs_ + 0.2 * ms : ms;
-  }
-
-  // The panel's live edits of the CPU's scene, to the device's copy that draws it.
-  void drawEdits() {
-    std::string toml = toToml(scene_);
-    if (toml == drawnToml_) return;
-    simulation_->setScene(host::drawnScene(scene_));
-    drawnToml_ = std::move(toml);
   }
 
   void createFrameSlots() {
@@ -409,10 +409,8 @@ class Demo {
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
     input_.apply(controls_, camera_);
-    panel_.build(device_.properties().deviceName, [this] { return figures(); }, controls_,
-                 renderer_, stepper(), scene_);
+    buildPanel();
     ImGui::Render();
-    if (cpu_) drawEdits();
     applyRequests();
     const uint32_t steps = stepsFor(frameSeconds);
     if (cpu_) {
@@ -462,7 +460,6 @@ class Demo {
   Surface surface_;
   VkSurfaceFormatKHR format_;
   std::unique_ptr<CpuSimulation> cpu_;  // steps the run, with --backend cpu or cpu-simd
-  std::string drawnToml_;               // the scene simulation_ draws, for cpu_ (before it)
   double cpuMs_ = 0.0;                  // cpu_'s time a frame, smoothed
   std::unique_ptr<GpuSimulation> simulation_;  // steps and draws the run, or draws cpu_'s
   host::FrameRenderer renderer_;
