@@ -21,136 +21,29 @@
 #include "lava/lava.h"
 #include "lava/validation.h"
 #include "test_scenes.h"
+#include "vulkan_host.h"
 #include "vulkan_test.h"
 
 namespace lava {
 namespace {
 
-// A host's instance and device, made without Lava, with the validation layer and a
-// messenger of the host's own.
-class HostDevice {
+// A host's instance and device, made without Lava, with the validation layer (required) and
+// a messenger of the host's own: the examples' host (examples/common/vulkan_host.h).
+// `apiVersion`: the host's Vulkan version (VkApplicationInfo): on 1.2 dynamic rendering is
+// the extension, enabled because deviceRequirements() says so.
+class HostDevice : public vkhost::Device {
  public:
-  // `apiVersion`: the host's Vulkan version (VkApplicationInfo): on 1.2 dynamic rendering is
-  // the extension, enabled because deviceRequirements() says so.
-  explicit HostDevice(uint32_t apiVersion = VK_API_VERSION_1_3) {
-    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-    app.apiVersion = apiVersion;
-    const char* layer = "VK_LAYER_KHRONOS_validation";
-    const char* extension = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
-    VkDebugUtilsMessengerCreateInfoEXT debug{
-        VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-    debug.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
-                            VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
-    debug.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
-                        VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
-    debug.pfnUserCallback = [](VkDebugUtilsMessageSeverityFlagBitsEXT,
-                               VkDebugUtilsMessageTypeFlagsEXT,
-                               const VkDebugUtilsMessengerCallbackDataEXT* data, void* self) {
-      static_cast<HostDevice*>(self)->messages.emplace_back(data->pMessage);
-      return VK_FALSE;
-    };
-    debug.pUserData = this;
-    VkValidationFeatureEnableEXT sync = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
-    VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
-    features.enabledValidationFeatureCount = 1;
-    features.pEnabledValidationFeatures = &sync;
-    debug.pNext = &features;
-    VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-    info.pNext = &debug;
-    info.pApplicationInfo = &app;
-    info.enabledLayerCount = 1;
-    info.ppEnabledLayerNames = &layer;
-    info.enabledExtensionCount = 1;
-    info.ppEnabledExtensionNames = &extension;
-    EXPECT_EQ(vkCreateInstance(&info, nullptr, &handles.instance), VK_SUCCESS);
-    debug.pNext = nullptr;
-    auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
-        vkGetInstanceProcAddr(handles.instance, "vkCreateDebugUtilsMessengerEXT"));
-    EXPECT_EQ(create(handles.instance, &debug, nullptr, &messenger_), VK_SUCCESS);
-    uint32_t count = 1;
-    vkEnumeratePhysicalDevices(handles.instance, &count, &handles.physicalDevice);
-    VkPhysicalDeviceProperties properties;
-    vkGetPhysicalDeviceProperties(handles.physicalDevice, &properties);
-    const DeviceRequirements needs =
-        deviceRequirements(std::min(apiVersion, properties.apiVersion));
-    VkPhysicalDeviceDynamicRenderingFeatures dynamic{
-        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DYNAMIC_RENDERING_FEATURES};
-    dynamic.dynamicRendering = VK_TRUE;
-    float priority = 1.0f;
-    VkDeviceQueueCreateInfo queue{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-    queue.queueCount = 1;
-    queue.pQueuePriorities = &priority;
-    VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-    deviceInfo.pNext = &dynamic;
-    deviceInfo.queueCreateInfoCount = 1;
-    deviceInfo.pQueueCreateInfos = &queue;
-    deviceInfo.enabledExtensionCount = static_cast<uint32_t>(needs.extensions.size());
-    deviceInfo.ppEnabledExtensionNames = needs.extensions.data();
-    EXPECT_EQ(vkCreateDevice(handles.physicalDevice, &deviceInfo, nullptr, &handles.device),
-              VK_SUCCESS);
-    vkGetDeviceQueue(handles.device, 0, 0, &handles.queue);
-  }
-  ~HostDevice() {
-    vkDestroyDevice(handles.device, nullptr);
-    auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
-        vkGetInstanceProcAddr(handles.instance, "vkDestroyDebugUtilsMessengerEXT"));
-    destroy(handles.instance, messenger_, nullptr);
-    vkDestroyInstance(handles.instance, nullptr);
-  }
-  HostDevice(const HostDevice&) = delete;
-  HostDevice& operator=(const HostDevice&) = delete;
-
-  DeviceHandles handles;
-  std::vector<std::string> messages;
+  explicit HostDevice(uint32_t apiVersion = VK_API_VERSION_1_3)
+      : vkhost::Device(options(apiVersion)) {}
 
  private:
-  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
-};
-
-// The host's frames: a command buffer and a fence per frame in flight.
-class HostFrames {
- public:
-  HostFrames(VkDevice device, uint32_t frames)
-      : device_(device), commands_(frames), fences_(frames) {
-    VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-    pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    EXPECT_EQ(vkCreateCommandPool(device, &pool, nullptr, &pool_), VK_SUCCESS);
-    VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-    alloc.commandPool = pool_;
-    alloc.commandBufferCount = frames;
-    EXPECT_EQ(vkAllocateCommandBuffers(device, &alloc, commands_.data()), VK_SUCCESS);
-    for (VkFence& fence : fences_) {
-      VkFenceCreateInfo info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-      info.flags = VK_FENCE_CREATE_SIGNALED_BIT;
-      EXPECT_EQ(vkCreateFence(device, &info, nullptr, &fence), VK_SUCCESS);
-    }
+  static vkhost::DeviceOptions options(uint32_t apiVersion) {
+    vkhost::DeviceOptions o;
+    o.name = "embedding test";
+    o.apiVersion = apiVersion;
+    o.requireValidation = true;
+    return o;
   }
-  ~HostFrames() {
-    vkDeviceWaitIdle(device_);
-    for (VkFence fence : fences_) vkDestroyFence(device_, fence, nullptr);
-    vkDestroyCommandPool(device_, pool_, nullptr);
-  }
-  // Waits until `slot`'s previous frame finished, then begins its command buffer.
-  VkCommandBuffer begin(uint32_t slot) {
-    EXPECT_EQ(vkWaitForFences(device_, 1, &fences_[slot], VK_TRUE, UINT64_MAX), VK_SUCCESS);
-    EXPECT_EQ(vkResetFences(device_, 1, &fences_[slot]), VK_SUCCESS);
-    VkCommandBufferBeginInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    EXPECT_EQ(vkBeginCommandBuffer(commands_[slot], &info), VK_SUCCESS);
-    return commands_[slot];
-  }
-  void submit(VkQueue queue, uint32_t slot) {
-    EXPECT_EQ(vkEndCommandBuffer(commands_[slot]), VK_SUCCESS);
-    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &commands_[slot];
-    EXPECT_EQ(vkQueueSubmit(queue, 1, &submit, fences_[slot]), VK_SUCCESS);
-  }
-
- private:
-  VkDevice device_;
-  VkCommandPool pool_ = VK_NULL_HANDLE;
-  std::vector<VkCommandBuffer> commands_;
-  std::vector<VkFence> fences_;
 };
 
 class Embedding : public ::testing::TestWithParam<uint32_t> {};
@@ -169,7 +62,7 @@ TEST_P(Embedding, FramesInFlightWithChangingStepCountsMatchTheCpu) {
     options.stepsPerDispatch = GetParam();
     GpuSimulation gpu(device, scene, options);
     CpuSimulation cpu(scene);
-    HostFrames frames(host.handles.device, device.framesInFlight());
+    vkhost::Frames frames(host.handles, device.framesInFlight());
     uint64_t steps = 0;
     for (uint32_t frame = 0; frame < 60; ++frame) {
       const uint32_t slot = frame % device.framesInFlight();
@@ -182,7 +75,7 @@ TEST_P(Embedding, FramesInFlightWithChangingStepCountsMatchTheCpu) {
       }
       gpu.recordSimulate(commands, slot);
       gpu.recordSimulate(commands, slot);  // a second record of the same plan records nothing
-      frames.submit(host.handles.queue, slot);
+      frames.submit(slot);
       steps += count;
     }
     vkDeviceWaitIdle(host.handles.device);
@@ -281,93 +174,6 @@ VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL countedGetInstanceProcAddr(VkInstance i
   return counted(name, vkGetInstanceProcAddr(instance, name));
 }
 
-uint32_t hostMemoryType(VkPhysicalDevice physical, uint32_t bits, VkMemoryPropertyFlags flags) {
-  VkPhysicalDeviceMemoryProperties memory;
-  vkGetPhysicalDeviceMemoryProperties(physical, &memory);
-  for (uint32_t i = 0; i < memory.memoryTypeCount; ++i)
-    if ((bits & (1u << i)) && (memory.memoryTypes[i].propertyFlags & flags) == flags) return i;
-  ADD_FAILURE() << "no memory type";
-  return 0;
-}
-
-// A host's 2D image, device memory and view, made without Lava and destroyed with it.
-struct HostImage {
-  VkDevice device;
-  VkImage image = VK_NULL_HANDLE;
-  VkDeviceMemory memory = VK_NULL_HANDLE;
-  VkImageView view = VK_NULL_HANDLE;
-  HostImage(const DeviceHandles& host, VkExtent2D extent, VkFormat format,
-            VkImageUsageFlags usage, VkImageAspectFlags aspect)
-      : device(host.device) {
-    VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-    info.imageType = VK_IMAGE_TYPE_2D;
-    info.format = format;
-    info.extent = {extent.width, extent.height, 1};
-    info.mipLevels = info.arrayLayers = 1;
-    info.samples = VK_SAMPLE_COUNT_1_BIT;
-    info.usage = usage;
-    EXPECT_EQ(vkCreateImage(device, &info, nullptr, &image), VK_SUCCESS);
-    VkMemoryRequirements needs;
-    vkGetImageMemoryRequirements(device, image, &needs);
-    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    alloc.allocationSize = needs.size;
-    alloc.memoryTypeIndex = hostMemoryType(host.physicalDevice, needs.memoryTypeBits, 0);
-    EXPECT_EQ(vkAllocateMemory(device, &alloc, nullptr, &memory), VK_SUCCESS);
-    vkBindImageMemory(device, image, memory, 0);
-    VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    viewInfo.image = image;
-    viewInfo.viewType = VK_IMAGE_VIEW_TYPE_2D;
-    viewInfo.format = format;
-    viewInfo.subresourceRange = {aspect, 0, 1, 0, 1};
-    EXPECT_EQ(vkCreateImageView(device, &viewInfo, nullptr, &view), VK_SUCCESS);
-  }
-  ~HostImage() {
-    vkDestroyImageView(device, view, nullptr);
-    vkDestroyImage(device, image, nullptr);
-    vkFreeMemory(device, memory, nullptr);
-  }
-  HostImage(const HostImage&) = delete;
-  HostImage& operator=(const HostImage&) = delete;
-};
-
-// A host-visible, coherent buffer the host copies into and reads.
-struct HostReadback {
-  VkDevice device;
-  VkBuffer buffer = VK_NULL_HANDLE;
-  VkDeviceMemory memory = VK_NULL_HANDLE;
-  VkDeviceSize bytes;
-  HostReadback(const DeviceHandles& host, VkDeviceSize size) : device(host.device), bytes(size) {
-    VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
-    info.size = bytes;
-    info.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    EXPECT_EQ(vkCreateBuffer(device, &info, nullptr, &buffer), VK_SUCCESS);
-    VkMemoryRequirements needs;
-    vkGetBufferMemoryRequirements(device, buffer, &needs);
-    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    alloc.allocationSize = needs.size;
-    alloc.memoryTypeIndex =
-        hostMemoryType(host.physicalDevice, needs.memoryTypeBits,
-                       VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-    EXPECT_EQ(vkAllocateMemory(device, &alloc, nullptr, &memory), VK_SUCCESS);
-    vkBindBufferMemory(device, buffer, memory, 0);
-  }
-  ~HostReadback() {
-    vkDestroyBuffer(device, buffer, nullptr);
-    vkFreeMemory(device, memory, nullptr);
-  }
-  HostReadback(const HostReadback&) = delete;
-  HostReadback& operator=(const HostReadback&) = delete;
-  // Once the copy into it has finished.
-  std::vector<uint8_t> read() const {
-    void* mapped = nullptr;
-    EXPECT_EQ(vkMapMemory(device, memory, 0, bytes, 0, &mapped), VK_SUCCESS);
-    std::vector<uint8_t> out(static_cast<const uint8_t*>(mapped),
-                             static_cast<const uint8_t*>(mapped) + bytes);
-    vkUnmapMemory(device, memory);
-    return out;
-  }
-};
-
 // A host that only records: from Lava's device to its destruction, frames of simulation and
 // drawing (both renderers, the lava look with its glow, a resize that also rebuilds the
 // host's frames with one more in flight, and a live setScene()) through the host's own
@@ -403,15 +209,15 @@ TEST_P(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
     Device device(handles);
     GpuSimulation gpu(device, scene);
     LineRenderer lines(device, {VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_UNDEFINED});
-    auto frames = std::make_unique<HostFrames>(vkDevice, device.framesInFlight());
+    auto frames = std::make_unique<vkhost::Frames>(host.handles, device.framesInFlight());
 
     // The host's target (one per size) and a buffer it reads the particles back into.
-    const HostImage targets[2] = {
+    const vkhost::Image targets[2] = {
         {host.handles, extents[0], VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT,
          VK_IMAGE_ASPECT_COLOR_BIT},
         {host.handles, extents[1], VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT,
          VK_IMAGE_ASPECT_COLOR_BIT}};
-    const HostReadback readback(host.handles, scene.particles() * sizeof(Particle));
+    const vkhost::Readback readback(host.handles, scene.particles() * sizeof(Particle));
 
     OrbitCamera camera;
     for (uint32_t frame = 0; frame <= kFrames; ++frame) {
@@ -420,7 +226,7 @@ TEST_P(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
         vkDeviceWaitIdle(vkDevice);
         frames.reset();  // and its swapchain came back with more images
         device.setFramesInFlight(3);
-        frames = std::make_unique<HostFrames>(vkDevice, 3);
+        frames = std::make_unique<vkhost::Frames>(host.handles, 3);
         lines.setExtent(extents[t]);
         gpu.setScene(edited);  // a live edit: no submission or wait either
       } else if (frame == 0) {
@@ -440,7 +246,7 @@ TEST_P(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
                                     chunk.count * sizeof(Particle)};
           vkCmdCopyBuffer(commands, chunk.buffer, readback.buffer, 1, &region);
         }
-        frames->submit(host.handles.queue, slot);
+        frames->submit(slot);
         break;
       }
       gpu.update(slot, kSteps);
@@ -472,7 +278,7 @@ TEST_P(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
       beginRendering(commands, &rendering);
       lines.recordDraw(commands, slot, gpu, view);
       endRendering(commands);
-      frames->submit(host.handles.queue, slot);
+      frames->submit(slot);
     }
     vkDeviceWaitIdle(vkDevice);
     const std::vector<uint8_t> bytes = readback.read();
@@ -546,7 +352,7 @@ TEST(EmbeddingFrameSlots, ASlotPastTheDevicesCountIsRefused) {
     GpuSimulation gpu(device, scene);
     LineRenderer lines(device, {VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_UNDEFINED});
     lines.setExtent({64, 64});
-    HostFrames frames(host.handles.device, 3);  // the host's three fences, in rotation
+    vkhost::Frames frames(host.handles, 3);  // the host's three fences, in rotation
     OrbitCamera camera;
     const View view{camera.viewProj(1.0f), {64, 64}, camera.eye()};
     const auto runFrames = [&]() {
@@ -570,7 +376,7 @@ TEST(EmbeddingFrameSlots, ASlotPastTheDevicesCountIsRefused) {
           EXPECT_THROW(lines.recordPrepare(commands, slot, gpu, view), InvalidArgument);
           EXPECT_THROW(lines.recordDraw(commands, slot, gpu, view), InvalidArgument);
         }
-        frames.submit(host.handles.queue, slot);
+        frames.submit(slot);
       }
       return refused;
     };
@@ -612,14 +418,14 @@ TEST(EmbeddingRenderPass, DrawsWhatDynamicRenderingDraws) {
   sphere.radius = 0.8f;
   scene.colliders.push_back(sphere);
   // The host's attachments (the depth sampled by the splat) and read-back buffer.
-  const HostImage images[2] = {
+  const vkhost::Image images[2] = {
       {host.handles, extent, kColor,
        VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
        VK_IMAGE_ASPECT_COLOR_BIT},
       {host.handles, extent, kDepth,
        VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
        VK_IMAGE_ASPECT_DEPTH_BIT}};
-  const HostReadback readback(host.handles, VkDeviceSize{extent.width} * extent.height * 4);
+  const vkhost::Readback readback(host.handles, VkDeviceSize{extent.width} * extent.height * 4);
 
   // Pass 0 clears and writes depth (the backdrop's); pass 1 loads both, depth read-only
   // (Lava's lines and glow). Their layouts stay as the subpass uses them: the host's
@@ -662,20 +468,7 @@ TEST(EmbeddingRenderPass, DrawsWhatDynamicRenderingDraws) {
     ASSERT_EQ(vkCreateFramebuffer(vk, &fb, nullptr, &framebuffers[load]), VK_SUCCESS);
   }
 
-  const auto barrier = [](VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect,
-                          VkImageLayout from, VkImageLayout to, VkPipelineStageFlags srcStage,
-                          VkAccessFlags srcAccess, VkPipelineStageFlags dstStage,
-                          VkAccessFlags dstAccess) {
-    VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-    b.srcAccessMask = srcAccess;
-    b.dstAccessMask = dstAccess;
-    b.oldLayout = from;
-    b.newLayout = to;
-    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.image = image;
-    b.subresourceRange = {aspect, 0, 1, 0, 1};
-    vkCmdPipelineBarrier(cmd, srcStage, dstStage, 0, 0, nullptr, 0, nullptr, 1, &b);
-  };
+  const auto barrier = vkhost::imageBarrier;
   constexpr VkPipelineStageFlags kTests =
       VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
   constexpr VkPipelineStageFlags kColorStage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
@@ -694,7 +487,7 @@ TEST(EmbeddingRenderPass, DrawsWhatDynamicRenderingDraws) {
     Backdrop backdrop(device, backdropTarget);
     LineRenderer lines(device, linesTarget);
     lines.setExtent(extent);
-    HostFrames frames(vk, device.framesInFlight());
+    vkhost::Frames frames(host.handles, device.framesInFlight());
     OrbitCamera camera;
     const View view{camera.viewProj(float(extent.width) / float(extent.height)), extent,
                     camera.eye()};
@@ -782,7 +575,7 @@ TEST(EmbeddingRenderPass, DrawsWhatDynamicRenderingDraws) {
         vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0,
                              1, &toHost, 0, nullptr, 0, nullptr);
       }
-      frames.submit(host.handles.queue, slot);
+      frames.submit(slot);
     }
     vkDeviceWaitIdle(vk);
     return readback.read();
@@ -827,7 +620,7 @@ TEST(EmbeddingThreads, TwoSimulationsRecordOnTwoThreads) {
     scene.emitters[0].particles = 5000;
     scene.emitters[0].rate = 30000.0;
     GpuSimulation gpu(device, scene);
-    auto frames = std::make_unique<HostFrames>(host.handles.device, device.framesInFlight());
+    auto frames = std::make_unique<vkhost::Frames>(host.handles, device.framesInFlight());
     for (uint32_t frame = 0; frame < 40; ++frame) {
       const uint32_t slot = frame % device.framesInFlight();
       const uint32_t count = 5 + (frame * seed) % 13;
@@ -836,7 +629,7 @@ TEST(EmbeddingThreads, TwoSimulationsRecordOnTwoThreads) {
       gpu.recordSimulate(commands, slot);
       {
         std::lock_guard<std::mutex> lock(queue);
-        frames->submit(host.handles.queue, slot);
+        frames->submit(slot);
       }
       *steps += count;
     }
@@ -962,10 +755,10 @@ std::vector<uint8_t> drawInColourOnlyPass(Device& device, GpuSimulation& gpu, co
                                           const View& view, uint32_t steps) {
   const DeviceHandles& host = device.handles();
   const VkDevice vk = host.device;
-  const HostImage image(host, extent, format,
+  const vkhost::Image image(host, extent, format,
                         VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                         VK_IMAGE_ASPECT_COLOR_BIT);
-  const HostReadback readback(host, VkDeviceSize{extent.width} * extent.height * 4);
+  const vkhost::Readback readback(host, VkDeviceSize{extent.width} * extent.height * 4);
   VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
   fb.renderPass = pass;
   fb.attachmentCount = 1;
@@ -975,7 +768,7 @@ std::vector<uint8_t> drawInColourOnlyPass(Device& device, GpuSimulation& gpu, co
   fb.layers = 1;
   VkFramebuffer framebuffer = VK_NULL_HANDLE;
   EXPECT_EQ(vkCreateFramebuffer(vk, &fb, nullptr, &framebuffer), VK_SUCCESS);
-  HostFrames frames(vk, 1);
+  vkhost::Frames frames(host, 1);
   VkCommandBuffer cmd = frames.begin(0);
   if (steps > 0) {
     gpu.update(0, steps);
@@ -1003,7 +796,7 @@ std::vector<uint8_t> drawInColourOnlyPass(Device& device, GpuSimulation& gpu, co
                          VK_ACCESS_HOST_READ_BIT};
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
                        &toHost, 0, nullptr, 0, nullptr);
-  frames.submit(host.queue, 0);
+  frames.submit(0);
   vkDeviceWaitIdle(vk);
   vkDestroyFramebuffer(vk, framebuffer, nullptr);
   return readback.read();

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# The installed library on a fresh prefix: `cmake --install` of this build; its include/ holds only lava/;
-# the scenes under share/lava/scenes, named by the CMake package and pkg-config;
-# every symbol of the library is lava's or a dependency's; examples/embed,
+# The installed libraries on a fresh prefix: `cmake --install` of this build; its include/ holds only
+# lava/; the scenes under share/lava/scenes, named by the CMake package and pkg-config; liblava
+# (Lava::lava, pkg-config lava) and liblava_tools beside it (Lava::lava_tools, lava_tools);
+# every symbol of each is lava's or a dependency's; examples/embed and examples/renderpass
+# link Lava::lava alone, examples/headless Lava::lava_tools; examples/embed,
 # examples/headless and examples/renderpass configure, build and run against it with
 # find_package(Lava) (the render-pass host in a window under Xvfb, resized as it runs); the
 # headless example also builds as one file with `pkg-config --cflags --libs lava`. The
@@ -24,9 +26,11 @@ extra=$(find "$prefix/include" -mindepth 1 -maxdepth 1 ! -name lava)
 for scene in crater volcano fountain vortex room modules/all; do
   [ -f "$prefix/share/lava/scenes/$scene.toml" ] || { echo "FAIL: $scene.toml not installed"; exit 1; }
 done
-library=$(readlink -f "$prefix/lib/liblava.so")
-readelf -d "$library" | grep -q 'SONAME.*liblava.so.0' || { echo "FAIL: no SONAME"; exit 1; }
-/usr/bin/python3 "$source/tests/check_symbols.py" "$library"
+for name in lava lava_tools; do
+  library=$(readlink -f "$prefix/lib/lib$name.so")
+  readelf -d "$library" | grep -q "SONAME.*lib$name.so.0" || { echo "FAIL: lib$name has no SONAME"; exit 1; }
+  /usr/bin/python3 "$source/tests/check_symbols.py" "$library"
+done
 
 for example in embed headless renderpass; do
   cmake -S "$source/examples/$example" -B "$work/$example" -DCMAKE_PREFIX_PATH="$prefix" \
@@ -37,6 +41,14 @@ for example in embed headless renderpass; do
   echo "$out"
 done
 echo "$out" | grep -q "bit-identical" || { echo "FAIL: headless did not compare"; exit 1; }
+# A host of Lava::lava alone needs no tools library; the tools' host gets both.
+for example in embed renderpass; do
+  if readelf -d "$work/$example/lava_$example" | grep -q 'NEEDED.*liblava_tools'; then
+    echo "FAIL: $example links liblava_tools"; exit 1
+  fi
+done
+readelf -d "$work/headless/lava_headless" | grep -q 'NEEDED.*liblava_tools.so.0' ||
+  { echo "FAIL: headless does not link liblava_tools"; exit 1; }
 
 # The render-pass host: 240 frames in a window, made smaller after its first second.
 cat > "$work/renderpass.sh" <<RUN
@@ -72,7 +84,8 @@ export PKG_CONFIG_PATH=$prefix/lib/pkgconfig
 if pkg-config --cflags lava | grep -q -- '-std='; then
   echo "FAIL: lava.pc sets a language standard: $(pkg-config --cflags lava)"; exit 1
 fi
-c++ -std=c++20 "$source/examples/headless/headless.cpp" $flags $(pkg-config --cflags --libs lava) \
+pkg-config --exists lava_tools || { echo "FAIL: pkg-config does not find lava_tools"; exit 1; }
+c++ -std=c++20 "$source/examples/headless/headless.cpp" $flags $(pkg-config --cflags --libs lava_tools) \
     -Wl,-rpath,"$prefix/lib" -o "$work/one-file"
 "$work/one-file"
 echo "PASS"

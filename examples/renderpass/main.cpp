@@ -8,130 +8,25 @@
 //   lava_renderpass [frames]   (0 or none: until the window closes)
 //
 // Exits 0 when the state equals Lava's CPU reference bit for bit and the validation layer
-// (with synchronization validation, when installed) said nothing.
+// (with synchronization validation, when installed) said nothing. The host's own Vulkan is
+// examples/common/vulkan_host.h.
 #define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>
 #include <lava/lava.h>
-#include <lava/validation.h>  // lava::compare
 
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "vulkan_host.h"  // the host's instance, device, images, frames (examples/common)
+
 namespace {
 
-void check(VkResult result, const char* what) {
-  if (result != VK_SUCCESS && result != VK_SUBOPTIMAL_KHR)
-    throw std::runtime_error(std::string(what) + " failed: " + lava::resultName(result));
-}
-
-std::vector<std::string> messages;  // the validation layer's, counted at exit
-VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT,
-                                         VkDebugUtilsMessageTypeFlagsEXT type,
-                                         const VkDebugUtilsMessengerCallbackDataEXT* data, void*) {
-  if (type & VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT) messages.emplace_back(data->pMessage);
-  return VK_FALSE;
-}
-
-bool hasLayer(const char* name) {
-  uint32_t count = 0;
-  vkEnumerateInstanceLayerProperties(&count, nullptr);
-  std::vector<VkLayerProperties> layers(count);
-  vkEnumerateInstanceLayerProperties(&count, layers.data());
-  for (const VkLayerProperties& l : layers)
-    if (std::strcmp(l.layerName, name) == 0) return true;
-  return false;
-}
-
-// The host's Vulkan: instance (with the validation layer when installed), device, queue,
-// made from what GLFW and Lava ask for.
-struct Context {
-  VkInstance instance = VK_NULL_HANDLE;
-  VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
-  VkPhysicalDevice physical = VK_NULL_HANDLE;
-  VkDevice device = VK_NULL_HANDLE;
-  uint32_t family = 0;
-  VkQueue queue = VK_NULL_HANDLE;
-
-  Context() {
-    const bool validation = hasLayer("VK_LAYER_KHRONOS_validation");
-    uint32_t glfwCount = 0;
-    const char** glfwExtensions = glfwGetRequiredInstanceExtensions(&glfwCount);
-    std::vector<const char*> extensions(glfwExtensions, glfwExtensions + glfwCount);
-    if (validation) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
-    const char* layer = "VK_LAYER_KHRONOS_validation";
-    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-    app.apiVersion = VK_API_VERSION_1_3;
-    VkValidationFeatureEnableEXT sync = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
-    VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
-    features.enabledValidationFeatureCount = 1;
-    features.pEnabledValidationFeatures = &sync;
-    VkDebugUtilsMessengerCreateInfoEXT debug{
-        VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-    debug.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
-                            VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
-    debug.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT;
-    debug.pfnUserCallback = &onMessage;
-    VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-    info.pApplicationInfo = &app;
-    info.enabledExtensionCount = uint32_t(extensions.size());
-    info.ppEnabledExtensionNames = extensions.data();
-    if (validation) {
-      debug.pNext = &features;
-      info.pNext = &debug;
-      info.enabledLayerCount = 1;
-      info.ppEnabledLayerNames = &layer;
-    }
-    check(vkCreateInstance(&info, nullptr, &instance), "vkCreateInstance");
-    if (validation) {
-      debug.pNext = nullptr;
-      auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
-          vkGetInstanceProcAddr(instance, "vkCreateDebugUtilsMessengerEXT"));
-      check(create(instance, &debug, nullptr, &messenger), "vkCreateDebugUtilsMessengerEXT");
-    }
-    std::printf("renderpass: validation layer %s\n", validation ? "on" : "not installed");
-    uint32_t count = 1;
-    const VkResult listed = vkEnumeratePhysicalDevices(instance, &count, &physical);
-    if (listed != VK_INCOMPLETE) check(listed, "vkEnumeratePhysicalDevices");
-    if (count == 0) throw std::runtime_error("no Vulkan device");
-    uint32_t families = 0;
-    vkGetPhysicalDeviceQueueFamilyProperties(physical, &families, nullptr);
-    std::vector<VkQueueFamilyProperties> props(families);
-    vkGetPhysicalDeviceQueueFamilyProperties(physical, &families, props.data());
-    while (family < families && (!(props[family].queueFlags & VK_QUEUE_GRAPHICS_BIT) ||
-                                 !glfwGetPhysicalDevicePresentationSupport(instance, physical,
-                                                                           family)))
-      ++family;
-    if (family == families) throw std::runtime_error("no queue that draws and presents");
-    // Lava's required extensions (none on 1.3) and the swapchain; no dynamic rendering.
-    std::vector<const char*> deviceExtensions = lava::deviceRequirements(instance, physical).extensions;
-    deviceExtensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
-    const float priority = 1.0f;
-    VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-    queueInfo.queueFamilyIndex = family;
-    queueInfo.queueCount = 1;
-    queueInfo.pQueuePriorities = &priority;
-    VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-    deviceInfo.queueCreateInfoCount = 1;
-    deviceInfo.pQueueCreateInfos = &queueInfo;
-    deviceInfo.enabledExtensionCount = uint32_t(deviceExtensions.size());
-    deviceInfo.ppEnabledExtensionNames = deviceExtensions.data();
-    check(vkCreateDevice(physical, &deviceInfo, nullptr, &device), "vkCreateDevice");
-    vkGetDeviceQueue(device, family, 0, &queue);
-  }
-  ~Context() {
-    vkDestroyDevice(device, nullptr);
-    if (messenger)
-      reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
-          vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"))(instance, messenger,
-                                                                              nullptr);
-    vkDestroyInstance(instance, nullptr);
-  }
-};
+using vkhost::check;
 
 constexpr VkFormat kColor = VK_FORMAT_B8G8R8A8_UNORM, kDepth = VK_FORMAT_D32_SFLOAT;
 constexpr VkImageLayout kDepthWrite = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
@@ -199,20 +94,10 @@ VkRenderPass createRenderPass(VkDevice device, bool second) {
   return pass;
 }
 
-uint32_t memoryType(VkPhysicalDevice physical, uint32_t bits) {
-  VkPhysicalDeviceMemoryProperties memory;
-  vkGetPhysicalDeviceMemoryProperties(physical, &memory);
-  for (uint32_t i = 0; i < memory.memoryTypeCount; ++i)
-    if ((bits & (1u << i)) &&
-        (memory.memoryTypes[i].propertyFlags & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT))
-      return i;
-  throw std::runtime_error("no device-local memory");
-}
-
 // The swapchain, its views, one depth image (sampled by Lava's splat) and a framebuffer
 // per image and pass; rebuilt when the window changes size.
 struct Swapchain {
-  const Context& vk;
+  const vkhost::Device& vk;
   VkSurfaceKHR surface;
   VkRenderPass passes[2];
   VkSwapchainKHR handle = VK_NULL_HANDLE;
@@ -220,13 +105,13 @@ struct Swapchain {
   std::vector<VkImageView> views;
   std::vector<VkFramebuffer> framebuffers[2];
   std::vector<VkSemaphore> rendered;  // per image: the frame's end, waited by presentation
-  VkImage depth = VK_NULL_HANDLE;
-  VkDeviceMemory depthMemory = VK_NULL_HANDLE;
-  VkImageView depthView = VK_NULL_HANDLE;
+  std::unique_ptr<vkhost::Image> depth;
 
+  VkDevice device() const { return vk.handles.device; }
   void create(GLFWwindow* window) {
     VkSurfaceCapabilitiesKHR caps;
-    check(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(vk.physical, surface, &caps), "capabilities");
+    check(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(vk.handles.physicalDevice, surface, &caps),
+          "capabilities");
     int w = 0, h = 0;
     glfwGetFramebufferSize(window, &w, &h);
     extent = caps.currentExtent.width != UINT32_MAX ? caps.currentExtent
@@ -244,71 +129,52 @@ struct Swapchain {
     info.compositeAlpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
     info.presentMode = VK_PRESENT_MODE_FIFO_KHR;
     info.clipped = VK_TRUE;
-    check(vkCreateSwapchainKHR(vk.device, &info, nullptr, &handle), "vkCreateSwapchainKHR");
+    check(vkCreateSwapchainKHR(device(), &info, nullptr, &handle), "vkCreateSwapchainKHR");
+    depth = std::make_unique<vkhost::Image>(
+        vk.handles, extent, kDepth, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+        VK_IMAGE_ASPECT_DEPTH_BIT);
     uint32_t count = 0;
-    vkGetSwapchainImagesKHR(vk.device, handle, &count, nullptr);
+    vkGetSwapchainImagesKHR(device(), handle, &count, nullptr);
     std::vector<VkImage> images(count);
-    vkGetSwapchainImagesKHR(vk.device, handle, &count, images.data());
-
-    VkImageCreateInfo depthInfo{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-    depthInfo.imageType = VK_IMAGE_TYPE_2D;
-    depthInfo.format = kDepth;
-    depthInfo.extent = {extent.width, extent.height, 1};
-    depthInfo.mipLevels = depthInfo.arrayLayers = 1;
-    depthInfo.samples = VK_SAMPLE_COUNT_1_BIT;
-    depthInfo.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-    check(vkCreateImage(vk.device, &depthInfo, nullptr, &depth), "vkCreateImage");
-    VkMemoryRequirements needs;
-    vkGetImageMemoryRequirements(vk.device, depth, &needs);
-    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    alloc.allocationSize = needs.size;
-    alloc.memoryTypeIndex = memoryType(vk.physical, needs.memoryTypeBits);
-    check(vkAllocateMemory(vk.device, &alloc, nullptr, &depthMemory), "vkAllocateMemory");
-    check(vkBindImageMemory(vk.device, depth, depthMemory, 0), "vkBindImageMemory");
-    depthView = view(depth, kDepth, VK_IMAGE_ASPECT_DEPTH_BIT);
-
-    for (VkImage image : images) {
-      views.push_back(view(image, kColor, VK_IMAGE_ASPECT_COLOR_BIT));
-      const VkImageView attachments[2] = {views.back(), depthView};
-      for (int p = 0; p < 2; ++p) {
-        VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-        fb.renderPass = passes[p];
-        fb.attachmentCount = 2;
-        fb.pAttachments = attachments;
-        fb.width = extent.width;
-        fb.height = extent.height;
-        fb.layers = 1;
-        framebuffers[p].emplace_back();
-        check(vkCreateFramebuffer(vk.device, &fb, nullptr, &framebuffers[p].back()), "framebuffer");
-      }
-      VkSemaphoreCreateInfo semaphore{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
-      rendered.emplace_back();
-      check(vkCreateSemaphore(vk.device, &semaphore, nullptr, &rendered.back()), "semaphore");
-    }
+    vkGetSwapchainImagesKHR(device(), handle, &count, images.data());
+    for (VkImage image : images) addImage(image);
   }
-  VkImageView view(VkImage image, VkFormat format, VkImageAspectFlags aspect) const {
-    VkImageViewCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    info.image = image;
-    info.viewType = VK_IMAGE_VIEW_TYPE_2D;
-    info.format = format;
-    info.subresourceRange = {aspect, 0, 1, 0, 1};
-    VkImageView v = VK_NULL_HANDLE;
-    check(vkCreateImageView(vk.device, &info, nullptr, &v), "vkCreateImageView");
-    return v;
+  // A swapchain image's view, its framebuffer for each pass, its semaphore.
+  void addImage(VkImage image) {
+    VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    viewInfo.image = image;
+    viewInfo.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    viewInfo.format = kColor;
+    viewInfo.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    views.emplace_back();
+    check(vkCreateImageView(device(), &viewInfo, nullptr, &views.back()), "vkCreateImageView");
+    const VkImageView attachments[2] = {views.back(), depth->view};
+    for (int p = 0; p < 2; ++p) {
+      VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+      fb.renderPass = passes[p];
+      fb.attachmentCount = 2;
+      fb.pAttachments = attachments;
+      fb.width = extent.width;
+      fb.height = extent.height;
+      fb.layers = 1;
+      framebuffers[p].emplace_back();
+      check(vkCreateFramebuffer(device(), &fb, nullptr, &framebuffers[p].back()), "framebuffer");
+    }
+    VkSemaphoreCreateInfo semaphore{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+    rendered.emplace_back();
+    check(vkCreateSemaphore(device(), &semaphore, nullptr, &rendered.back()), "semaphore");
   }
   void destroy() {
     for (int p = 0; p < 2; ++p) {
-      for (VkFramebuffer fb : framebuffers[p]) vkDestroyFramebuffer(vk.device, fb, nullptr);
+      for (VkFramebuffer fb : framebuffers[p]) vkDestroyFramebuffer(device(), fb, nullptr);
       framebuffers[p].clear();
     }
-    for (VkImageView v : views) vkDestroyImageView(vk.device, v, nullptr);
-    for (VkSemaphore s : rendered) vkDestroySemaphore(vk.device, s, nullptr);
+    for (VkImageView v : views) vkDestroyImageView(device(), v, nullptr);
+    for (VkSemaphore s : rendered) vkDestroySemaphore(device(), s, nullptr);
     views.clear();
     rendered.clear();
-    vkDestroyImageView(vk.device, depthView, nullptr);
-    vkDestroyImage(vk.device, depth, nullptr);
-    vkFreeMemory(vk.device, depthMemory, nullptr);
-    vkDestroySwapchainKHR(vk.device, handle, nullptr);
+    depth.reset();
+    vkDestroySwapchainKHR(device(), handle, nullptr);
   }
 };
 
@@ -325,6 +191,126 @@ void beginPass(VkCommandBuffer cmd, const Swapchain& swapchain, int pass, uint32
   vkCmdBeginRenderPass(cmd, &info, VK_SUBPASS_CONTENTS_INLINE);
 }
 
+// Lava's objects on the host's handles, its pipelines built for the host's passes.
+struct Lava {
+  lava::Device device;
+  lava::Scene scene;
+  lava::GpuSimulation simulation;
+  lava::Backdrop backdrop;
+  lava::LineRenderer lines;
+  uint64_t steps = 0;
+
+  Lava(const lava::DeviceHandles& handles, const Swapchain& swapchain)
+      : device(handles),
+        scene(lava::loadScene(std::string(LAVA_SCENES_DIR) + "/volcano.toml")),
+        simulation(device, scene),
+        backdrop(device, {kColor, kDepth, swapchain.passes[0], 0}),
+        lines(device, {kColor, kDepth, swapchain.passes[1], 0}) {
+    lines.setMode(lava::LineMode::Splat);  // tested against the backdrop's depth
+    lines.setExtent(swapchain.extent);
+  }
+  // One frame of the recipe between the host's two passes: 16 ms of lava.
+  void record(VkCommandBuffer cmd, uint32_t slot, const Swapchain& swapchain, uint32_t image,
+              const lava::View& view) {
+    simulation.update(slot, 16);
+    steps += 16;
+    simulation.recordSimulate(cmd, slot);
+    beginPass(cmd, swapchain, 0, image);
+    backdrop.recordDraw(cmd, view, scene);
+    vkCmdEndRenderPass(cmd);  // the depth is read-only now (the pass's final layout)
+    lines.recordPrepare(cmd, slot, simulation, view, swapchain.depth->view);
+    beginPass(cmd, swapchain, 1, image);
+    lines.recordDraw(cmd, slot, simulation, view);
+    vkCmdEndRenderPass(cmd);
+  }
+};
+
+// Rebuilds the swapchain at the window's size, once it has an area, and tells Lava.
+void rebuild(Swapchain& swapchain, Lava& lava, GLFWwindow* window) {
+  for (int w = 0, h = 0; glfwGetFramebufferSize(window, &w, &h), w == 0 || h == 0;)
+    glfwWaitEvents();
+  vkDeviceWaitIdle(swapchain.device());
+  swapchain.destroy();
+  swapchain.create(window);
+  lava.lines.setExtent(swapchain.extent);
+}
+
+// `frames` frames (0: until the window closes), resized as the window is; then the state
+// against the CPU reference. 0 when they are equal bit for bit.
+int drawFrames(const vkhost::Device& vk, Swapchain& swapchain, GLFWwindow* window, int frames) {
+  constexpr uint32_t kFramesInFlight = 2;  // the host's: a command buffer, fence, semaphore each
+  lava::DeviceHandles handles = vk.handles;
+  handles.framesInFlight = kFramesInFlight;
+  Lava lava(handles, swapchain);
+  vkhost::Frames slots(vk.handles, kFramesInFlight);
+  VkSemaphore acquired[kFramesInFlight];
+  for (VkSemaphore& semaphore : acquired) {
+    VkSemaphoreCreateInfo info{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+    check(vkCreateSemaphore(vk.handles.device, &info, nullptr, &semaphore), "semaphore");
+  }
+  lava::OrbitCamera camera;
+  bool stale = false;  // the window changed size: rebuild before the next frame
+  for (int frame = 0; (frames == 0 || frame < frames) && !glfwWindowShouldClose(window); ++frame) {
+    glfwPollEvents();
+    int width = 0, height = 0;  // not every driver reports a resize as out of date
+    glfwGetFramebufferSize(window, &width, &height);
+    if (stale || uint32_t(width) != swapchain.extent.width ||
+        uint32_t(height) != swapchain.extent.height)
+      rebuild(swapchain, lava, window);
+    const uint32_t slot = uint32_t(frame) % kFramesInFlight;  // the fence's index
+    slots.wait(slot);
+    uint32_t image = 0;
+    const VkResult got = vkAcquireNextImageKHR(vk.handles.device, swapchain.handle, UINT64_MAX,
+                                               acquired[slot], VK_NULL_HANDLE, &image);
+    stale = got == VK_ERROR_OUT_OF_DATE_KHR;
+    if (stale) continue;
+    if (got != VK_SUBOPTIMAL_KHR) check(got, "vkAcquireNextImageKHR");
+    const float aspect = float(swapchain.extent.width) / float(swapchain.extent.height);
+    const lava::View view{camera.viewProj(aspect), swapchain.extent, camera.eye()};
+    lava.record(slots.begin(slot), slot, swapchain, image, view);
+    slots.submit(slot, acquired[slot], VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                 swapchain.rendered[image]);
+    VkPresentInfoKHR present{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
+    present.waitSemaphoreCount = 1;
+    present.pWaitSemaphores = &swapchain.rendered[image];
+    present.swapchainCount = 1;
+    present.pSwapchains = &swapchain.handle;
+    present.pImageIndices = &image;
+    const VkResult shown = vkQueuePresentKHR(vk.handles.queue, &present);
+    stale = shown == VK_ERROR_OUT_OF_DATE_KHR || shown == VK_SUBOPTIMAL_KHR;
+    if (!stale) check(shown, "vkQueuePresentKHR");
+  }
+  check(vkDeviceWaitIdle(vk.handles.device), "vkDeviceWaitIdle");
+  for (VkSemaphore semaphore : acquired) vkDestroySemaphore(vk.handles.device, semaphore, nullptr);
+
+  lava::CpuSimulation reference(lava.scene);
+  reference.advance(lava.steps);
+  const std::vector<lava::Particle> gpu = lava.simulation.state().particles;
+  const uint64_t equal = vkhost::identicalSlots(gpu, reference.state().particles);
+  std::printf("renderpass: %llu steps at %ux%u, %llu/%zu slots bit-identical to the CPU "
+              "reference, %zu validation messages\n",
+              static_cast<unsigned long long>(lava.steps), swapchain.extent.width,
+              swapchain.extent.height, static_cast<unsigned long long>(equal), gpu.size(),
+              vk.messages.size());
+  return equal == gpu.size() ? 0 : 1;
+}
+
+// The host's Vulkan, made from what GLFW and Lava ask for: GLFW's instance extensions, the
+// swapchain, a queue that presents, and no dynamic rendering (Lava draws in the passes).
+vkhost::DeviceOptions windowDevice() {
+  vkhost::DeviceOptions options;
+  options.name = "renderpass";
+  uint32_t count = 0;
+  const char** extensions = glfwGetRequiredInstanceExtensions(&count);
+  options.instanceExtensions.assign(extensions, extensions + count);
+  options.deviceExtensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
+  options.dynamicRendering = false;
+  options.presents = [](VkInstance instance, VkPhysicalDevice physical, uint32_t family) {
+    return glfwGetPhysicalDevicePresentationSupport(instance, physical, family) == GLFW_TRUE;
+  };
+  return options;
+}
+
 int run(int frames) {
   if (!glfwInit()) throw std::runtime_error("no display for GLFW");
   glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
@@ -332,142 +318,23 @@ int run(int frames) {
   if (!window) throw std::runtime_error("GLFW could not open a window");
   int status = 1;
   {
-    const Context vk;
+    const vkhost::Device vk(windowDevice());
+    std::printf("renderpass: validation layer %s\n", vk.validation ? "on" : "not installed");
     VkSurfaceKHR surface = VK_NULL_HANDLE;
-    check(glfwCreateWindowSurface(vk.instance, window, nullptr, &surface), "surface");
-    Swapchain swapchain{vk, surface, {createRenderPass(vk.device, false),
-                                      createRenderPass(vk.device, true)}};
+    check(glfwCreateWindowSurface(vk.handles.instance, window, nullptr, &surface), "surface");
+    Swapchain swapchain{vk, surface, {createRenderPass(vk.handles.device, false),
+                                      createRenderPass(vk.handles.device, true)}};
     swapchain.create(window);
-
-    // Lava on the host's handles, its pipelines for the host's passes.
-    constexpr uint32_t kFramesInFlight = 2;
-    lava::DeviceHandles handles{vk.instance, vk.physical, vk.device, vk.family, vk.queue};
-    handles.dynamicRendering = false;  // created without it: Lava draws in the passes
-    handles.framesInFlight = kFramesInFlight;
-    {
-      lava::Device device(handles);
-      const lava::Scene scene = lava::loadScene(std::string(LAVA_SCENES_DIR) + "/volcano.toml");
-      lava::GpuSimulation simulation(device, scene);
-      const lava::Backdrop backdrop(device, {kColor, kDepth, swapchain.passes[0], 0});
-      lava::LineRenderer lines(device, {kColor, kDepth, swapchain.passes[1], 0});
-      lines.setMode(lava::LineMode::Splat);  // tested against the backdrop's depth
-      lines.setExtent(swapchain.extent);
-
-      // The host's frames in flight: a command buffer, a fence, an acquire semaphore each.
-      VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-      poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-      poolInfo.queueFamilyIndex = vk.family;
-      VkCommandPool pool = VK_NULL_HANDLE;
-      check(vkCreateCommandPool(vk.device, &poolInfo, nullptr, &pool), "vkCreateCommandPool");
-      VkCommandBuffer commands[kFramesInFlight];
-      VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-      alloc.commandPool = pool;
-      alloc.commandBufferCount = kFramesInFlight;
-      check(vkAllocateCommandBuffers(vk.device, &alloc, commands), "vkAllocateCommandBuffers");
-      VkFence fences[kFramesInFlight];
-      VkSemaphore acquired[kFramesInFlight];
-      for (uint32_t i = 0; i < kFramesInFlight; ++i) {
-        VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-        fence.flags = VK_FENCE_CREATE_SIGNALED_BIT;
-        check(vkCreateFence(vk.device, &fence, nullptr, &fences[i]), "vkCreateFence");
-        VkSemaphoreCreateInfo semaphore{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
-        check(vkCreateSemaphore(vk.device, &semaphore, nullptr, &acquired[i]), "semaphore");
-      }
-
-      lava::OrbitCamera camera;
-      uint64_t steps = 0;
-      bool stale = false;  // the window changed size: rebuild before the next frame
-      for (int frame = 0; (frames == 0 || frame < frames) && !glfwWindowShouldClose(window);
-           ++frame) {
-        glfwPollEvents();
-        int width = 0, height = 0;  // not every driver reports a resize as out of date
-        glfwGetFramebufferSize(window, &width, &height);
-        stale = stale || uint32_t(width) != swapchain.extent.width ||
-                uint32_t(height) != swapchain.extent.height;
-        if (stale) {  // rebuilt once the window has an area, and Lava told the size
-          for (int w = 0, h = 0; glfwGetFramebufferSize(window, &w, &h), w == 0 || h == 0;)
-            glfwWaitEvents();
-          vkDeviceWaitIdle(vk.device);
-          swapchain.destroy();
-          swapchain.create(window);
-          lines.setExtent(swapchain.extent);
-          stale = false;
-        }
-        const uint32_t slot = uint32_t(frame) % kFramesInFlight;  // the fence's index
-        check(vkWaitForFences(vk.device, 1, &fences[slot], VK_TRUE, UINT64_MAX), "wait");
-        uint32_t image = 0;
-        const VkResult got = vkAcquireNextImageKHR(vk.device, swapchain.handle, UINT64_MAX,
-                                                   acquired[slot], VK_NULL_HANDLE, &image);
-        if (got == VK_ERROR_OUT_OF_DATE_KHR) {
-          stale = true;
-          continue;
-        }
-        check(got, "vkAcquireNextImageKHR");
-        check(vkResetFences(vk.device, 1, &fences[slot]), "vkResetFences");
-        const lava::View view{
-            camera.viewProj(float(swapchain.extent.width) / float(swapchain.extent.height)),
-            swapchain.extent, camera.eye()};
-        VkCommandBuffer cmd = commands[slot];
-        VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-        check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
-        simulation.update(slot, 16);  // 16 ms of lava a frame
-        steps += 16;
-        simulation.recordSimulate(cmd, slot);
-        beginPass(cmd, swapchain, 0, image);
-        backdrop.recordDraw(cmd, view, scene);
-        vkCmdEndRenderPass(cmd);  // the depth is read-only now (the pass's final layout)
-        lines.recordPrepare(cmd, slot, simulation, view, swapchain.depthView);
-        beginPass(cmd, swapchain, 1, image);
-        lines.recordDraw(cmd, slot, simulation, view);
-        vkCmdEndRenderPass(cmd);
-        check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
-
-        const VkPipelineStageFlags waitStage = kColorStage;
-        VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-        submit.waitSemaphoreCount = 1;
-        submit.pWaitSemaphores = &acquired[slot];
-        submit.pWaitDstStageMask = &waitStage;
-        submit.commandBufferCount = 1;
-        submit.pCommandBuffers = &cmd;
-        submit.signalSemaphoreCount = 1;
-        submit.pSignalSemaphores = &swapchain.rendered[image];
-        check(vkQueueSubmit(vk.queue, 1, &submit, fences[slot]), "vkQueueSubmit");
-        VkPresentInfoKHR present{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
-        present.waitSemaphoreCount = 1;
-        present.pWaitSemaphores = &swapchain.rendered[image];
-        present.swapchainCount = 1;
-        present.pSwapchains = &swapchain.handle;
-        present.pImageIndices = &image;
-        const VkResult shown = vkQueuePresentKHR(vk.queue, &present);
-        stale = shown == VK_ERROR_OUT_OF_DATE_KHR || shown == VK_SUBOPTIMAL_KHR;
-        if (!stale) check(shown, "vkQueuePresentKHR");
-      }
-      check(vkDeviceWaitIdle(vk.device), "vkDeviceWaitIdle");
-
-      lava::CpuSimulation reference(scene);
-      reference.advance(steps);
-      const lava::Comparison c =
-          lava::compare(simulation.state().particles, reference.state().particles);
-      std::printf("renderpass: %llu steps at %ux%u, %llu/%llu slots bit-identical to the CPU "
-                  "reference, %zu validation messages\n",
-                  static_cast<unsigned long long>(steps), swapchain.extent.width,
-                  swapchain.extent.height, static_cast<unsigned long long>(c.equal),
-                  static_cast<unsigned long long>(c.particles), messages.size());
-      status = c.equal == c.particles ? 0 : 1;
-      for (uint32_t i = 0; i < kFramesInFlight; ++i) {
-        vkDestroyFence(vk.device, fences[i], nullptr);
-        vkDestroySemaphore(vk.device, acquired[i], nullptr);
-      }
-      vkDestroyCommandPool(vk.device, pool, nullptr);
-    }  // Lava's objects, then its Device, before the host's
+    status = drawFrames(vk, swapchain, window, frames);  // Lava's objects gone before the host's
     swapchain.destroy();
-    for (VkRenderPass pass : swapchain.passes) vkDestroyRenderPass(vk.device, pass, nullptr);
-    vkDestroySurfaceKHR(vk.instance, surface, nullptr);
+    for (VkRenderPass pass : swapchain.passes) vkDestroyRenderPass(vk.handles.device, pass, nullptr);
+    vkDestroySurfaceKHR(vk.handles.instance, surface, nullptr);
+    for (const std::string& m : vk.messages)
+      std::fprintf(stderr, "renderpass: validation: %s\n", m.c_str());
+    if (!vk.messages.empty()) status = 1;
   }
   glfwDestroyWindow(window);
   glfwTerminate();
-  for (const std::string& m : messages) std::fprintf(stderr, "renderpass: validation: %s\n", m.c_str());
-  if (!messages.empty()) status = 1;
   std::printf("renderpass: %s\n", status == 0 ? "PASS" : "FAIL");
   return status;
 }

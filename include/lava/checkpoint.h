@@ -1,3 +1,4 @@
+// In liblava_tools (Lava::lava_tools, pkg-config lava_tools), beside liblava.
 // Checkpoints: a run's scene and state in one file, so that it resumes bit for bit, on the
 // same backend or the other, here or on another machine.
 //
@@ -33,15 +34,15 @@ struct Snapshot {
 };
 
 // The checkpoint's bytes (checkState(scene, state) first).
-LAVA_API std::string checkpointBytes(const Scene& scene, const State& state);
+LAVA_TOOLS_API std::string checkpointBytes(const Scene& scene, const State& state);
 // Writes them to `path` atomically: a temporary file in the same folder, renamed into place
 // (an earlier file at `path` stays whole until then). Throws ResourceError when it cannot.
-LAVA_API void writeCheckpoint(const std::string& path, const Scene& scene, const State& state);
+LAVA_TOOLS_API void writeCheckpoint(const std::string& path, const Scene& scene, const State& state);
 
 // Reads a checkpoint. Throws InvalidArgument whose parameter is `name` (or the path) and
 // whose text names the problem: not a checkpoint, truncated, another format version, a
 // CRC or checksum mismatch, a scene or state that does not fit.
-LAVA_API Snapshot parseCheckpoint(const std::string& bytes, const std::string& name);
-LAVA_API Snapshot readCheckpoint(const std::string& path);
+LAVA_TOOLS_API Snapshot parseCheckpoint(const std::string& bytes, const std::string& name);
+LAVA_TOOLS_API Snapshot readCheckpoint(const std::string& path);
 
 }  // namespace lava

@@ -1,3 +1,4 @@
+// In liblava_tools (Lava::lava_tools, pkg-config lava_tools), beside liblava.
 // Comparing two backends: particle states side by side, and a run of both compared at
 // checkpoints that names the first step at which they differ (`lava validate`).
 #pragma once
@@ -15,7 +16,7 @@ namespace lava {
 // Distance in units in the last place between two floats: 0 when bitwise equal, 1 between
 // +0 and -0 and between neighbours; the largest value when exactly one is NaN (two NaNs
 // count as equal only when their bits are).
-LAVA_API uint32_t ulpDistance(float a, float b);
+LAVA_TOOLS_API uint32_t ulpDistance(float a, float b);
 
 // The first differing float of the first differing slot.
 struct Difference {
@@ -25,7 +26,7 @@ struct Difference {
   uint32_t subjectBits = 0;
   uint32_t referenceBits = 0;
 };
-LAVA_API const char* fieldName(uint32_t field);
+LAVA_TOOLS_API const char* fieldName(uint32_t field);
 
 struct Comparison {
   uint64_t particles = 0;           // slots compared
@@ -38,14 +39,14 @@ struct Comparison {
   std::optional<Difference> first;  // none when equal == particles
 };
 
-LAVA_API Comparison compare(const std::vector<Particle>& subject,
+LAVA_TOOLS_API Comparison compare(const std::vector<Particle>& subject,
                             const std::vector<Particle>& reference);
 // The same, naming each difference's emitter.
-LAVA_API Comparison compare(const Scene& scene, const std::vector<Particle>& subject,
+LAVA_TOOLS_API Comparison compare(const Scene& scene, const std::vector<Particle>& subject,
                             const std::vector<Particle>& reference);
 // Whole states: the particles, and for a scene with a flow each slot's temperature and crust
 // flag too.
-LAVA_API Comparison compare(const Scene& scene, const State& subject, const State& reference);
+LAVA_TOOLS_API Comparison compare(const Scene& scene, const State& subject, const State& reference);
 
 struct Checkpoint {
   uint64_t step;  // steps since the run began
@@ -66,7 +67,7 @@ struct ValidationReport {
 // On the first difference it replays the last agreeing interval one step at a time to
 // name the first divergent step, then carries on from where each backend was, so later
 // checkpoints show the accumulated divergence. Both must start from the same state.
-LAVA_API ValidationReport validate(Simulation& subject, Simulation& reference, uint64_t steps,
+LAVA_TOOLS_API ValidationReport validate(Simulation& subject, Simulation& reference, uint64_t steps,
                                    uint64_t every, uint32_t toleranceUlp,
                                    const std::function<void(const Checkpoint&)>& onCheckpoint = {});
 

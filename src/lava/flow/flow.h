@@ -10,6 +10,7 @@
 #include "lava/state.h"
 #include "shared.h"
 #include "sim/emission.h"
+#include "internal.h"
 
 namespace lava::detail {
 
@@ -82,7 +83,7 @@ struct Cell {
   int32_t x, y, z;
   bool operator==(const Cell& o) const { return x == o.x && y == o.y && z == o.z; }
 };
-Cell cellOf(float x, float y, float z, float invRadius);
+LAVA_INTERNAL Cell cellOf(float x, float y, float z, float invRadius);
 uint32_t bucketOf(const Cell& cell, uint32_t buckets);
 // The grid's hash table size for `slots` flow slots.
 uint32_t flowBuckets(uint64_t slots);
@@ -97,7 +98,7 @@ struct FlowRange {
   uint64_t firstIndex;  // in the flow's numbering
   uint64_t count;
 };
-std::vector<FlowRange> flowRanges(const Scene& scene);
+LAVA_INTERNAL std::vector<FlowRange> flowRanges(const Scene& scene);
 
 // The viscosity at temperature T (m^2/s): the table, interpolated; exact at both ends.
 float flowViscosity(const FlowConstants& k, float temperature);

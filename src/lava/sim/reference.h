@@ -11,6 +11,7 @@
 #include "flow/lattice.h"
 #include "lava/scene.h"
 #include "lava/state.h"
+#include "internal.h"
 
 namespace lava::detail {
 
@@ -21,7 +22,7 @@ enum class Modules { Euler, Any };
 // Particles CpuSimulation steps together with the reference (they stay in L1).
 constexpr size_t kReferenceBlock = 32;
 
-class Reference {
+class LAVA_INTERNAL Reference {
  public:
   explicit Reference(const Scene& scene);
 

@@ -4,11 +4,12 @@
 #include "lava/scene.h"
 #include "shared.h"
 #include "vulkan/pipeline.h"
+#include "internal.h"
 
 namespace lava::detail {
 
-gpu::SceneParams sceneParams(const Scene& scene);
+LAVA_INTERNAL gpu::SceneParams sceneParams(const Scene& scene);
 // Workgroup size, integrator, emitters, forces, colliders, lifetimes (shared.h's order).
-Constants stepConstants(const Scene& scene);
+LAVA_INTERNAL Constants stepConstants(const Scene& scene);
 
 }  // namespace lava::detail

@@ -10,6 +10,7 @@
 #include "emission.h"
 #include "lava/state.h"
 #include "reference.h"
+#include "internal.h"
 
 namespace lava::detail {
 
@@ -26,7 +27,7 @@ void simdRun(const Reference& reference, SimdTarget target, size_t emitter,
 // The compute ceiling: `steps` steps of emitter 0's particles over one block of
 // kSimdBlock that never leaves L1, through the kernel's own loop (simdRun, or
 // Reference::run when `scalar`) with no births; returns the updates done.
-uint64_t stepKernelOnly(const Reference& reference, Particle* block, uint64_t steps, bool scalar,
+LAVA_INTERNAL uint64_t stepKernelOnly(const Reference& reference, Particle* block, uint64_t steps, bool scalar,
                         SimdTarget target = 0);
 
 // "AVX3 (512-bit, 16 lanes)": the instruction set `target` names on this CPU.
@@ -36,6 +37,6 @@ std::string simdTarget(SimdTarget target = 0);
 // Lava dispatches to it itself: Highway's own target selection, which a host may use, is
 // never changed, and no choice is kept anywhere but where the caller keeps it.
 std::vector<std::string> simdTargets();
-SimdTarget simdTargetNamed(const std::string& name);
+LAVA_INTERNAL SimdTarget simdTargetNamed(const std::string& name);
 
 }  // namespace lava::detail

@@ -5,6 +5,7 @@
 
 #include "device_context.h"
 #include "unique.h"
+#include "internal.h"
 
 namespace lava::detail {
 
@@ -14,7 +15,7 @@ enum class MemoryUse {
   Readback,  // host-visible, mapped, cached where offered; the device writes, the host reads
 };
 
-class Buffer {
+class LAVA_INTERNAL Buffer {
  public:
   Buffer() = default;
   Buffer(const DeviceContext& context, VkDeviceSize size, VkBufferUsageFlags usage, MemoryUse use);
@@ -63,7 +64,7 @@ Image createImage(const DeviceContext& context, VkExtent2D extent, VkFormat form
 UniqueMemory allocateMemory(const DeviceContext& context, VkDeviceSize size, uint32_t type);
 
 // A view of `range` bytes of `buffer` as texels of `format` (a uniform texel buffer).
-UniqueBufferView createTexelView(const DeviceContext& context, VkBuffer buffer, VkDeviceSize range,
+LAVA_INTERNAL UniqueBufferView createTexelView(const DeviceContext& context, VkBuffer buffer, VkDeviceSize range,
                                  VkFormat format = VK_FORMAT_R32G32B32A32_SFLOAT);
 
 }  // namespace lava::detail

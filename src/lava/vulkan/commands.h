@@ -10,20 +10,21 @@
 
 #include "device_context.h"
 #include "unique.h"
+#include "internal.h"
 
 namespace lava::detail {
 
 // A set layout for Descriptors::bind (a push-descriptor layout where the device has push
 // descriptors): binding b of types[b], each visible to `stages`; combined image samplers
 // use `sampler` (immutable) when it is given.
-UniqueDescriptorSetLayout createSetLayout(const DeviceContext& context,
+LAVA_INTERNAL UniqueDescriptorSetLayout createSetLayout(const DeviceContext& context,
                                           std::initializer_list<VkDescriptorType> types,
                                           VkShaderStageFlags stages,
                                           VkSampler sampler = VK_NULL_HANDLE);
 // A sampler clamping to the edge, with `filter` for both magnification and minification.
 UniqueSampler createSampler(const DeviceContext& context, VkFilter filter);
 // One set layout (or none) and one push-constant range of `pushBytes` for `pushStages`.
-UniquePipelineLayout createPipelineLayout(const DeviceContext& context, VkDescriptorSetLayout set,
+LAVA_INTERNAL UniquePipelineLayout createPipelineLayout(const DeviceContext& context, VkDescriptorSetLayout set,
                                           VkShaderStageFlags pushStages, uint32_t pushBytes);
 
 // Descriptor sets for a device without push descriptors, one arena per frame slot: each
@@ -31,7 +32,7 @@ UniquePipelineLayout createPipelineLayout(const DeviceContext& context, VkDescri
 // arena's own pools the first time a slot needs that many and kept; reset() makes them
 // available again once the work recorded with them has finished (a command buffer recorded
 // with them cannot be submitted again after that). Empty where push descriptors are used.
-class DescriptorArena {
+class LAVA_INTERNAL DescriptorArena {
  public:
   DescriptorArena() = default;
   explicit DescriptorArena(const DeviceContext& context) : c_(&context) {}
@@ -51,7 +52,7 @@ class DescriptorArena {
 };
 
 // Up to eight descriptor writes, bound at once: pushed, or written into a set of `arena`.
-class Descriptors {
+class LAVA_INTERNAL Descriptors {
  public:
   Descriptors& buffer(uint32_t binding, VkDescriptorType type, VkBuffer buffer,
                       VkDeviceSize offset = 0, VkDeviceSize range = VK_WHOLE_SIZE);
@@ -73,7 +74,7 @@ class Descriptors {
 };
 
 // One global memory barrier.
-void memoryBarrier(const DeviceContext& context, VkCommandBuffer commands,
+LAVA_INTERNAL void memoryBarrier(const DeviceContext& context, VkCommandBuffer commands,
                    VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
                    VkPipelineStageFlags dstStage, VkAccessFlags dstAccess);
 // Compute reads and writes after every earlier write (compute, transfer) and read (draws,

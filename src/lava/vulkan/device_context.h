@@ -11,10 +11,11 @@
 
 #include "api.h"
 #include "lava/device.h"
+#include "internal.h"
 
 namespace lava::detail {
 
-struct DeviceContext {
+struct LAVA_INTERNAL DeviceContext {
   Vk vk;
   DeviceHandles handles;
   bool owned = false;

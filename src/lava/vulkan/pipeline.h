@@ -8,6 +8,7 @@
 #include "device_context.h"
 #include "lava/renderer.h"
 #include "unique.h"
+#include "internal.h"
 
 namespace lava::detail {
 
@@ -29,7 +30,7 @@ using Constants = std::vector<uint32_t>;
 Spirv withFloatControls(const DeviceContext& context, Spirv both, Spirv signedZero, Spirv rte,
                         Spirv plain);
 
-UniquePipeline createComputePipeline(const DeviceContext& context, VkPipelineLayout layout,
+LAVA_INTERNAL UniquePipeline createComputePipeline(const DeviceContext& context, VkPipelineLayout layout,
                                      Spirv shader, const Constants& constants);
 
 struct GraphicsPipelineDesc {

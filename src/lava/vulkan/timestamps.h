@@ -3,10 +3,11 @@
 #pragma once
 #include "device_context.h"
 #include "unique.h"
+#include "internal.h"
 
 namespace lava::detail {
 
-class TimestampPair {
+class LAVA_INTERNAL TimestampPair {
  public:
   explicit TimestampPair(const DeviceContext& context);
   void recordStart(VkCommandBuffer commands) const;  // resets the pair, then stamps
