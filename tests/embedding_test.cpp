@@ -809,7 +809,6 @@ TEST_F(EmbeddingDraw, LinesLandInAHostImageOfAnotherChannelOrder) {
   // in both looks (the lava look's last pass writes the host's format).
   GpuSimulation simulation(device(), Scene{});
   simulation.advance(2500);
-  const host::Submitter submitter(device());
   const OrbitCamera camera;
   for (LookStyle style : {LookStyle::Plain, LookStyle::Lava}) {
     SCOPED_TRACE(style == LookStyle::Lava ? "lava look" : "plain look");
@@ -818,7 +817,7 @@ TEST_F(EmbeddingDraw, LinesLandInAHostImageOfAnotherChannelOrder) {
     for (int i = 0; i < 2; ++i) {
       host::FrameRenderer renderer(device(), formats[i], style);
       const host::OffscreenTarget target(device(), {200, 150}, formats[i]);
-      images[i] = host::renderOffscreen(submitter, renderer, simulation, target, camera);
+      images[i] = host::renderOffscreen(device(), renderer, simulation, target, camera);
     }
     size_t lit = 0;
     for (size_t p = 0; p < images[0].size(); p += 4) {

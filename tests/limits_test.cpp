@@ -127,14 +127,13 @@ TEST_P(Limits, DrawsTheSameImageChunkByChunk) {
     if (constrained) {
       EXPECT_GE(simulation.chunks().size(), 3u);
     }
-    const host::Submitter submitter(device());
     for (LookStyle style : {LookStyle::Plain, LookStyle::Lava})
       for (LineMode mode : {LineMode::Lines, LineMode::Splat}) {
         host::FrameRenderer renderer(device(), host::OffscreenTarget::kColorFormat, style);
         renderer.setLineMode(mode);
         const host::OffscreenTarget target(device(), {320, 240});
         images[constrained].push_back(
-            host::renderOffscreen(submitter, renderer, simulation, target, OrbitCamera{}));
+            host::renderOffscreen(device(), renderer, simulation, target, OrbitCamera{}));
       }
   }
   for (size_t i = 0; i < images[0].size(); ++i)
@@ -154,7 +153,6 @@ TEST_F(GlowCells, DrawTheSameImageWhereTexelViewsCannotHoldThem) {
   scene.emitters[0].rate = 9000;
   GpuSimulation simulation(device(), scene);
   simulation.advance(3000);
-  const host::Submitter submitter(device());
   const VkExtent2D extent{320, 240};
   const uint32_t cells = (extent.width / gpu::kGlowCell) * (extent.height / gpu::kGlowCell);
   std::vector<std::vector<uint8_t>> images[2];
@@ -169,7 +167,7 @@ TEST_F(GlowCells, DrawTheSameImageWhereTexelViewsCannotHoldThem) {
         renderer.setLineMode(mode);
         const host::OffscreenTarget target(device(), extent);
         images[constrained].push_back(
-            host::renderOffscreen(submitter, renderer, simulation, target, OrbitCamera{}));
+            host::renderOffscreen(device(), renderer, simulation, target, OrbitCamera{}));
       }
   }
   ASSERT_EQ(images[1].size(), 4u);

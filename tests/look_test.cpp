@@ -49,15 +49,6 @@ glm::vec3 toneMap(glm::vec3 x) {
 
 class LookTest : public test::VulkanTest {
  protected:
-  void SetUp() override {
-    VulkanTest::SetUp();
-    submitter_ = std::make_unique<host::Submitter>(device());
-  }
-  void TearDown() override {
-    submitter_.reset();
-    VulkanTest::TearDown();
-  }
-
   static Particle particle(glm::vec3 x, glm::vec3 v, float age) {
     return Particle{x.x, x.y, x.z, age, v.x, v.y, v.z, 1.0f};
   }
@@ -80,7 +71,7 @@ class LookTest : public test::VulkanTest {
     renderer.setLineMode(mode);
     renderer.setSettings(settings);
     const OffscreenTarget target(device(), size);
-    return host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
+    return host::renderOffscreen(device(), renderer, simulation, target, camera_);
   }
 
   // One lava-look frame of a flow: `particles` with their temperatures and crust flags, the
@@ -159,7 +150,6 @@ class LookTest : public test::VulkanTest {
   }
 
   OrbitCamera camera_;
-  std::unique_ptr<host::Submitter> submitter_;
 };
 
 const glm::vec3 kSkyPoint{0.0f, 2.6f, 0.0f};  // above the horizon: only sky behind
@@ -446,15 +436,15 @@ TEST_F(LookTest, CachedBackdropDrawsTheSameImage) {
     FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, LookStyle::Lava);
     renderer.setLineMode(mode);
     const OffscreenTarget target(device(), kSize);
-    const auto drawn = host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
+    const auto drawn = host::renderOffscreen(device(), renderer, simulation, target, camera_);
     EXPECT_FALSE(renderer.backdropReused());
     const OffscreenTarget fresh(device(), kSize);
-    const auto copied = host::renderOffscreen(*submitter_, renderer, simulation, fresh, camera_);
+    const auto copied = host::renderOffscreen(device(), renderer, simulation, fresh, camera_);
     EXPECT_TRUE(renderer.backdropReused());
     EXPECT_EQ(drawn, copied);
     // Switching the look redraws the backdrop.
     renderer.setStyle(LookStyle::Plain);
-    host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
+    host::renderOffscreen(device(), renderer, simulation, target, camera_);
     EXPECT_FALSE(renderer.backdropReused());
   }
 }

@@ -29,15 +29,6 @@ constexpr VkExtent2D kSize{320, 240};
 
 class RenderTest : public test::VulkanTest {
  protected:
-  void SetUp() override {
-    VulkanTest::SetUp();
-    submitter_ = std::make_unique<host::Submitter>(device());
-  }
-  void TearDown() override {
-    submitter_.reset();
-    VulkanTest::TearDown();
-  }
-
   // Renders `particles` (set as the simulation's state, no steps taken).
   std::vector<uint8_t> render(const std::vector<Particle>& particles,
                               LineMode mode = LineMode::Lines) {
@@ -57,7 +48,7 @@ class RenderTest : public test::VulkanTest {
     FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, LookStyle::Plain);
     renderer.setLineMode(mode);
     const OffscreenTarget target(device(), kSize);
-    return host::renderOffscreen(*submitter_, renderer, simulation, target, camera);
+    return host::renderOffscreen(device(), renderer, simulation, target, camera);
   }
 
   glm::mat4 viewProj() const {
@@ -101,7 +92,6 @@ class RenderTest : public test::VulkanTest {
   std::vector<uint8_t> renderDefaultScene(LineMode mode);
 
   OrbitCamera camera_;
-  std::unique_ptr<host::Submitter> submitter_;
 };
 
 const glm::vec3 kSkyPoint{0.0f, 2.6f, 0.0f};  // above the horizon: only the clear color behind
@@ -317,23 +307,23 @@ TEST_F(RenderTest, CachedGroundDrawsTheSameImage) {
     FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, LookStyle::Plain);
     renderer.setLineMode(mode);
     const OffscreenTarget target(device(), kSize);
-    const auto drawn = host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
+    const auto drawn = host::renderOffscreen(device(), renderer, simulation, target, camera_);
     EXPECT_FALSE(renderer.backdropReused());
     // A fresh target: its colour must come from the copy, the depth tested against from the
     // cache.
     const OffscreenTarget fresh(device(), kSize);
-    const auto copied = host::renderOffscreen(*submitter_, renderer, simulation, fresh, camera_);
+    const auto copied = host::renderOffscreen(device(), renderer, simulation, fresh, camera_);
     EXPECT_TRUE(renderer.backdropReused());
     EXPECT_EQ(drawn, copied);
 
     OrbitCamera turned = camera_;
     turned.yaw += 0.5f;
     const auto turnedDrawn =
-        host::renderOffscreen(*submitter_, renderer, simulation, target, turned);
+        host::renderOffscreen(device(), renderer, simulation, target, turned);
     EXPECT_FALSE(renderer.backdropReused());
     EXPECT_NE(turnedDrawn, drawn);
     const auto turnedCopied =
-        host::renderOffscreen(*submitter_, renderer, simulation, target, turned);
+        host::renderOffscreen(device(), renderer, simulation, target, turned);
     EXPECT_TRUE(renderer.backdropReused());
     EXPECT_EQ(turnedDrawn, turnedCopied);
   }
@@ -347,16 +337,16 @@ TEST_F(RenderTest, CachedBackdropIsRedrawnWhenTheCraterOrTheSizeChanges) {
   simulation.advance(500);
   FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, LookStyle::Plain);
   const OffscreenTarget target(device(), kSize);
-  host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
-  host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
+  host::renderOffscreen(device(), renderer, simulation, target, camera_);
+  host::renderOffscreen(device(), renderer, simulation, target, camera_);
   ASSERT_TRUE(renderer.backdropReused());
-  const auto before = host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
+  const auto before = host::renderOffscreen(device(), renderer, simulation, target, camera_);
   scene.emitters[0].radius = 0.4f;
   simulation.setScene(scene);
-  const auto wider = host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
+  const auto wider = host::renderOffscreen(device(), renderer, simulation, target, camera_);
   EXPECT_FALSE(renderer.backdropReused());
   EXPECT_NE(wider, before) << "a wider crater looks different";
-  EXPECT_EQ(host::renderOffscreen(*submitter_, renderer, simulation, target, camera_), wider);
+  EXPECT_EQ(host::renderOffscreen(device(), renderer, simulation, target, camera_), wider);
   EXPECT_TRUE(renderer.backdropReused());
   Collider box;
   box.type = ColliderType::Box;
@@ -364,12 +354,12 @@ TEST_F(RenderTest, CachedBackdropIsRedrawnWhenTheCraterOrTheSizeChanges) {
   scene.colliders = {box};
   GpuSimulation withBox(device(), scene);
   withBox.setState(simulation.state());
-  host::renderOffscreen(*submitter_, renderer, withBox, target, camera_);
+  host::renderOffscreen(device(), renderer, withBox, target, camera_);
   EXPECT_FALSE(renderer.backdropReused());
   const OffscreenTarget smaller(device(), {200, 150});
-  host::renderOffscreen(*submitter_, renderer, withBox, smaller, camera_);
+  host::renderOffscreen(device(), renderer, withBox, smaller, camera_);
   EXPECT_FALSE(renderer.backdropReused());
-  host::renderOffscreen(*submitter_, renderer, withBox, smaller, camera_);
+  host::renderOffscreen(device(), renderer, withBox, smaller, camera_);
   EXPECT_TRUE(renderer.backdropReused());
 }
 
@@ -403,7 +393,7 @@ TEST_F(RenderTest, SplatPairsOfPixelsDrawTheSameImagesAsSinglePixels) {
     FrameRenderer renderer(on, OffscreenTarget::kColorFormat, style);
     renderer.setLineMode(LineMode::Splat);
     const OffscreenTarget target(on, kSize);
-    return host::renderOffscreen(host::Submitter(on), renderer, simulation, target, camera_);
+    return host::renderOffscreen(on, renderer, simulation, target, camera_);
   };
   for (LookStyle style : {LookStyle::Plain, LookStyle::Lava})
     for (bool piledUp : {false, true}) {
@@ -439,7 +429,7 @@ TEST_F(RenderTest, SplatSaturatesInsteadOfBleedingGreenIntoRed) {
       renderer.setLineMode(splat ? LineMode::Splat : LineMode::Lines);
       renderer.setSettings({1.0f, 0.0f, 0.1f});
       const OffscreenTarget target(device(), kSize);
-      images[splat] = host::renderOffscreen(*submitter_, renderer, simulation, target, camera_);
+      images[splat] = host::renderOffscreen(device(), renderer, simulation, target, camera_);
     }
     const auto lines =
         brightestNear(images[0], project(kSkyPoint + 0.5f * 0.3f * glm::vec3(0.8f, 0, 0)));
@@ -471,7 +461,7 @@ TEST_F(RenderTest, HostMemoryTargetDrawsTheSameImage) {
     const OffscreenTarget inHost(device(), kSize, OffscreenTarget::kColorFormat, host.get());
     EXPECT_TRUE(inHost.inHostMemory());
     EXPECT_EQ(inHost.mappedPixels(), host.get());
-    EXPECT_EQ(expected, host::renderOffscreen(*submitter_, renderer, simulation, inHost, camera_));
+    EXPECT_EQ(expected, host::renderOffscreen(device(), renderer, simulation, inHost, camera_));
     // The presenter's fallback, a usual target read back, is `expected` itself.
     const OffscreenTarget readBack(device(), kSize);
     EXPECT_FALSE(readBack.inHostMemory());
@@ -492,7 +482,7 @@ TEST_F(RenderTest, HostWritesTheCachedBackdropIntoAHostMemoryTarget) {
       std::aligned_alloc(OffscreenTarget::hostImportAlignment(device()), *bytes), &std::free);
   const auto frame = [&](FrameRenderer& renderer, uint32_t slot, const host::FrameTarget& target,
                          const OrbitCamera& camera) {
-    submitter_->submitNow([&](VkCommandBuffer commands) {
+    device().submitNow([&](VkCommandBuffer commands) {
       renderer.record(commands, slot, simulation, target, camera);
       host::memoryBarrier(commands, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
                           VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
@@ -510,9 +500,9 @@ TEST_F(RenderTest, HostWritesTheCachedBackdropIntoAHostMemoryTarget) {
       usual.setLineMode(mode);
       const OffscreenTarget plainTarget(device(), kSize);
       const auto expected =
-          host::renderOffscreen(*submitter_, usual, simulation, plainTarget, camera_);
+          host::renderOffscreen(device(), usual, simulation, plainTarget, camera_);
       const auto expectedTurned =
-          host::renderOffscreen(*submitter_, usual, simulation, plainTarget, turned);
+          host::renderOffscreen(device(), usual, simulation, plainTarget, turned);
 
       FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, style);
       renderer.setLineMode(mode);

@@ -4,6 +4,7 @@
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -179,6 +180,10 @@ class LAVA_API Device {
   std::vector<std::string> takeValidationMessages();
   // Blocking: waits until the device is idle.
   void waitIdle() const;
+  // Blocking: `record` records into a one-time command buffer of the Device's pool, which is
+  // then submitted on its queue and waited on (a blocking helper: see Thread safety). For
+  // work outside the host's frames: uploads, offscreen frames, read-backs.
+  void submitNow(const std::function<void(VkCommandBuffer)>& record) const;
 
   detail::DeviceContext& context() const { return *context_; }
 

@@ -260,10 +260,10 @@ void FrameRenderer::record(VkCommandBuffer commands, uint32_t frame,
                toTransfer ? VK_ACCESS_TRANSFER_READ_BIT : 0);
 }
 
-std::vector<uint8_t> renderOffscreen(const Submitter& submitter, FrameRenderer& renderer,
+std::vector<uint8_t> renderOffscreen(const Device& device, FrameRenderer& renderer,
                                      const GpuSimulation& simulation, const OffscreenTarget& target,
                                      const OrbitCamera& camera) {
-  submitter.submitNow([&](VkCommandBuffer commands) {
+  device.submitNow([&](VkCommandBuffer commands) {
     renderer.record(commands, 0, simulation, target.target(), camera);
     target.recordReadback(commands);
   });
@@ -291,7 +291,6 @@ void renderFrames(Device& device, const Scene& scene, const FrameRun& run,
   renderer.setLineMode(run.lines);
   renderer.setSettings(run.look);
   const OffscreenTarget target(device, run.size);
-  const Submitter submitter(device);
   OrbitCamera camera;
   if (run.start) simulation.setState(*run.start);
   std::optional<SeriesWriter> series;
@@ -310,7 +309,7 @@ void renderFrames(Device& device, const Scene& scene, const FrameRun& run,
     if (frame > 0) advance(owed.take(stepsPerFrame));
     if (cpu) drawn.setState(drawnState(cpu->view()));
     camera.yaw = 0.6f + 0.15f * float(frame / run.fps);  // a slow orbit
-    sink(frame, renderOffscreen(submitter, renderer, drawn, target, camera));
+    sink(frame, renderOffscreen(device, renderer, drawn, target, camera));
   }
 }
 

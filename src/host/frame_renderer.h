@@ -76,7 +76,7 @@ class FrameRenderer {
 };
 
 // The image of the scene drawn offscreen: its pixels once the frame finished.
-std::vector<uint8_t> renderOffscreen(const Submitter& submitter, FrameRenderer& renderer,
+std::vector<uint8_t> renderOffscreen(const Device& device, FrameRenderer& renderer,
                                      const GpuSimulation& simulation, const OffscreenTarget& target,
                                      const OrbitCamera& camera);
 

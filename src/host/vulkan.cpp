@@ -129,52 +129,6 @@ void memoryBarrier(VkCommandBuffer commands, VkPipelineStageFlags srcStage, VkAc
   common::memoryBarrier(vkCmdPipelineBarrier, commands, srcStage, srcAccess, dstStage, dstAccess);
 }
 
-Submitter::Submitter(const Device& device) : device_(device) {
-  VkCommandPoolCreateInfo info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-  info.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
-  info.queueFamilyIndex = device.handles().queueFamily;
-  VkCommandPool pool = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateCommandPool(device.handles().device, &info, nullptr, &pool));
-  pool_ = OwnedCommandPool(device.handles().device, pool);
-}
-
-VkCommandBuffer Submitter::begin() const {
-  VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  alloc.commandPool = pool_;
-  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  alloc.commandBufferCount = 1;
-  VkCommandBuffer commands = VK_NULL_HANDLE;
-  VK_CHECK(vkAllocateCommandBuffers(device_.handles().device, &alloc, &commands));
-  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  VK_CHECK(vkBeginCommandBuffer(commands, &begin));
-  return commands;
-}
-
-void Submitter::endAndWait(VkCommandBuffer commands) const {
-  VkDevice device = device_.handles().device;
-  struct Free {
-    VkDevice device;
-    VkCommandPool pool;
-    VkCommandBuffer commands;
-    ~Free() { vkFreeCommandBuffers(device, pool, 1, &commands); }
-  } free{device, pool_, commands};
-  VK_CHECK(vkEndCommandBuffer(commands));
-  VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-  VkFence raw = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateFence(device, &fenceInfo, nullptr, &raw));
-  const OwnedFence fence(device, raw);
-  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-  submit.commandBufferCount = 1;
-  submit.pCommandBuffers = &commands;
-  VK_CHECK(vkQueueSubmit(device_.handles().queue, 1, &submit, fence));
-  const VkResult waited = vkWaitForFences(device, 1, &raw, VK_TRUE, UINT64_MAX);
-  if (waited != VK_SUCCESS) {
-    vkDeviceWaitIdle(device);  // the work may still run: free nothing it uses before
-    throw VulkanError(waited, "vkWaitForFences", __FILE__, __LINE__);
-  }
-}
-
 bool applyDeviceProfile(DeviceOptions& options, const std::string& profile) {
   if (profile.empty() || profile == "full") return true;
   if (profile != "minimal") return false;

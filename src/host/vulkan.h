@@ -91,22 +91,4 @@ class ReadbackBuffer {
 bool applyDeviceProfile(DeviceOptions& options, const std::string& profile);
 constexpr const char* kDeviceProfiles = "full or minimal";
 
-// One-time command buffers on the device's queue, each waited on.
-class Submitter {
- public:
-  explicit Submitter(const Device& device);
-  template <typename Record>
-  void submitNow(Record&& record) const {
-    VkCommandBuffer commands = begin();
-    record(commands);
-    endAndWait(commands);
-  }
-
- private:
-  VkCommandBuffer begin() const;
-  void endAndWait(VkCommandBuffer commands) const;
-  const Device& device_;
-  OwnedCommandPool pool_;
-};
-
 }  // namespace lava::host

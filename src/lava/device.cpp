@@ -656,4 +656,8 @@ void Device::waitIdle() const {
   VK_CHECK(context_->vk.DeviceWaitIdle(context_->handles.device));
 }
 
+void Device::submitNow(const std::function<void(VkCommandBuffer)>& record) const {
+  context_->submitNow(record);
+}
+
 }  // namespace lava

@@ -367,13 +367,12 @@ class Demo {
     offscreen.setLineMode(renderer_.lineMode());
     offscreen.setSettings(renderer_.settings());
     const host::OffscreenTarget target(device_, presenter_->extent());
-    const host::Submitter submitter(device_);
     char name[64];
     do  // the next number no file has yet: an earlier run's screenshots stay
       std::snprintf(name, sizeof(name), "lava-screenshot-%03u.png", screenshots_++);
     while (access(name, F_OK) == 0 && screenshots_ < 100000);
     host::writePng(name, target.extent().width, target.extent().height,
-                   host::renderOffscreen(submitter, offscreen, *simulation_, target, camera_));
+                   host::renderOffscreen(device_, offscreen, *simulation_, target, camera_));
     std::printf("demo: saved %s\n", name);
   }
 

@@ -198,8 +198,7 @@ Ui::Ui(Device& device, GLFWwindow* window, VkFormat colorFormat, uint32_t imageC
   info.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
   info.CheckVkResultFn = [](VkResult result) { VK_CHECK(result); };
   ImGui_ImplVulkan_Init(&info, overPass_);
-  const host::Submitter submitter(device);
-  submitter.submitNow(
+  device.submitNow(
       [](VkCommandBuffer commands) { ImGui_ImplVulkan_CreateFontsTexture(commands); });
   ImGui_ImplVulkan_DestroyFontUploadObjects();
 }
