@@ -46,7 +46,7 @@ struct DeviceOptions {
   bool requireValidation = false;               // fail when the layer is not installed
   std::vector<const char*> instanceExtensions;  // beside debug utils, e.g. GLFW's
   std::vector<const char*> deviceExtensions;    // beside Lava's, e.g. the swapchain
-  bool dynamicRendering = true;  // false: a host that draws only in render passes
+  bool dynamicRendering = true;                 // false: a host that draws only in render passes
   // Lava's optional features where offered: 64-bit atomics and push descriptors, told to
   // Lava in `handles`.
   bool optionalFeatures = false;
@@ -67,17 +67,17 @@ class Device {
   ~Device() {
     vkDestroyDevice(handles.device, nullptr);
     if (messenger_)
-      reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(vkGetInstanceProcAddr(
-          handles.instance, "vkDestroyDebugUtilsMessengerEXT"))(handles.instance, messenger_,
-                                                                nullptr);
+      reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+          vkGetInstanceProcAddr(handles.instance, "vkDestroyDebugUtilsMessengerEXT"))(
+          handles.instance, messenger_, nullptr);
     vkDestroyInstance(handles.instance, nullptr);
   }
   Device(const Device&) = delete;  // the messenger holds its address
   Device& operator=(const Device&) = delete;
 
-  lava::DeviceHandles handles;         // instance, physical device, device, queue, features
-  bool validation = false;             // the layer is on, with synchronization validation
-  std::vector<std::string> messages;   // the layer's, one per message
+  lava::DeviceHandles handles;        // instance, physical device, device, queue, features
+  bool validation = false;            // the layer is on, with synchronization validation
+  std::vector<std::string> messages;  // the layer's, one per message
 
  private:
   // The loader's own notices (general messages, such as "VK_INSTANCE_LAYERS ... adding
@@ -135,8 +135,8 @@ class Device {
   // The first device, and its first family that draws, computes and (when asked) presents.
   void pickQueue(const DeviceOptions& options) {
     uint32_t count = 1;
-    const VkResult listed = vkEnumeratePhysicalDevices(handles.instance, &count,
-                                                       &handles.physicalDevice);
+    const VkResult listed =
+        vkEnumeratePhysicalDevices(handles.instance, &count, &handles.physicalDevice);
     if (listed != VK_INCOMPLETE) check(listed, "vkEnumeratePhysicalDevices");
     if (count == 0) throw std::runtime_error("no Vulkan device");
     uint32_t families = 0;
@@ -201,7 +201,8 @@ class Device {
     info.pQueueCreateInfos = &queue;
     info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
     info.ppEnabledExtensionNames = extensions.data();
-    check(vkCreateDevice(handles.physicalDevice, &info, nullptr, &handles.device), "vkCreateDevice");
+    check(vkCreateDevice(handles.physicalDevice, &info, nullptr, &handles.device),
+          "vkCreateDevice");
     vkGetDeviceQueue(handles.device, handles.queueFamily, 0, &handles.queue);
   }
 
@@ -244,8 +245,8 @@ class Image {
     vkGetImageMemoryRequirements(device_, image, &needs);
     VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     alloc.allocationSize = needs.size;
-    alloc.memoryTypeIndex = memoryType(host.physicalDevice, needs.memoryTypeBits,
-                                       VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    alloc.memoryTypeIndex =
+        memoryType(host.physicalDevice, needs.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
     check(vkAllocateMemory(device_, &alloc, nullptr, &memory_), "vkAllocateMemory");
     check(vkBindImageMemory(device_, image, memory_, 0), "vkBindImageMemory");
     VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};

@@ -48,8 +48,10 @@ VkRenderPass createRenderPass(VkDevice device, bool second) {
     d.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
   }
   a[0].format = kColor;
-  a[0].initialLayout = second ? VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED;
-  a[0].finalLayout = second ? VK_IMAGE_LAYOUT_PRESENT_SRC_KHR : VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+  a[0].initialLayout =
+      second ? VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED;
+  a[0].finalLayout =
+      second ? VK_IMAGE_LAYOUT_PRESENT_SRC_KHR : VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
   a[1].format = kDepth;
   a[1].storeOp = second ? VK_ATTACHMENT_STORE_OP_NONE : VK_ATTACHMENT_STORE_OP_STORE;
   a[1].initialLayout = second ? kDepthRead : VK_IMAGE_LAYOUT_UNDEFINED;
@@ -65,7 +67,9 @@ VkRenderPass createRenderPass(VkDevice device, bool second) {
   // In: the first pass waits for the acquired image (its semaphore's stage) and for the
   // last frame's depth tests and splat to finish with the depth (WAR); the second, for
   // the first pass's colour.
-  deps[0] = {VK_SUBPASS_EXTERNAL, 0, kColorStage | kTests | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+  deps[0] = {VK_SUBPASS_EXTERNAL,
+             0,
+             kColorStage | kTests | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
              kColorStage | kTests,
              VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
              VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
@@ -74,7 +78,9 @@ VkRenderPass createRenderPass(VkDevice device, bool second) {
              0};
   // Out: the first pass's colour to the second's load, its depth to the splat (compute)
   // and the second's tests; the second's colour to presentation.
-  deps[1] = {0, VK_SUBPASS_EXTERNAL, kColorStage | kTests,
+  deps[1] = {0,
+             VK_SUBPASS_EXTERNAL,
+             kColorStage | kTests,
              second ? VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT
                     : kColorStage | kTests | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
              VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
@@ -131,7 +137,8 @@ struct Swapchain {
     info.clipped = VK_TRUE;
     check(vkCreateSwapchainKHR(device(), &info, nullptr, &handle), "vkCreateSwapchainKHR");
     depth = std::make_unique<vkhost::Image>(
-        vk.handles, extent, kDepth, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+        vk.handles, extent, kDepth,
+        VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
         VK_IMAGE_ASPECT_DEPTH_BIT);
     uint32_t count = 0;
     vkGetSwapchainImagesKHR(device(), handle, &count, nullptr);
@@ -287,11 +294,11 @@ int drawFrames(const vkhost::Device& vk, Swapchain& swapchain, GLFWwindow* windo
   reference.advance(lava.steps);
   const std::vector<lava::Particle> gpu = lava.simulation.state().particles;
   const uint64_t equal = vkhost::identicalSlots(gpu, reference.state().particles);
-  std::printf("renderpass: %llu steps at %ux%u, %llu/%zu slots bit-identical to the CPU "
-              "reference, %zu validation messages\n",
-              static_cast<unsigned long long>(lava.steps), swapchain.extent.width,
-              swapchain.extent.height, static_cast<unsigned long long>(equal), gpu.size(),
-              vk.messages.size());
+  std::printf(
+      "renderpass: %llu steps at %ux%u, %llu/%zu slots bit-identical to the CPU "
+      "reference, %zu validation messages\n",
+      static_cast<unsigned long long>(lava.steps), swapchain.extent.width, swapchain.extent.height,
+      static_cast<unsigned long long>(equal), gpu.size(), vk.messages.size());
   return equal == gpu.size() ? 0 : 1;
 }
 
@@ -322,12 +329,15 @@ int run(int frames) {
     std::printf("renderpass: validation layer %s\n", vk.validation ? "on" : "not installed");
     VkSurfaceKHR surface = VK_NULL_HANDLE;
     check(glfwCreateWindowSurface(vk.handles.instance, window, nullptr, &surface), "surface");
-    Swapchain swapchain{vk, surface, {createRenderPass(vk.handles.device, false),
-                                      createRenderPass(vk.handles.device, true)}};
+    Swapchain swapchain{
+        vk,
+        surface,
+        {createRenderPass(vk.handles.device, false), createRenderPass(vk.handles.device, true)}};
     swapchain.create(window);
     status = drawFrames(vk, swapchain, window, frames);  // Lava's objects gone before the host's
     swapchain.destroy();
-    for (VkRenderPass pass : swapchain.passes) vkDestroyRenderPass(vk.handles.device, pass, nullptr);
+    for (VkRenderPass pass : swapchain.passes)
+      vkDestroyRenderPass(vk.handles.device, pass, nullptr);
     vkDestroySurfaceKHR(vk.handles.instance, surface, nullptr);
     for (const std::string& m : vk.messages)
       std::fprintf(stderr, "renderpass: validation: %s\n", m.c_str());

@@ -58,6 +58,36 @@ bool choose(const char* label, E& value, int count) {
   return changed;
 }
 
+// A list's editor: each item in a tree node titled "<noun> i (<its kind>)" with `fields`
+// editing it, a remove button while more than `least` remain, and an add button (`added()`)
+// while fewer than `most`. IDs from `id` up, so that lists do not clash.
+template <typename Item, typename Kind, typename Fields, typename Added>
+bool editList(std::vector<Item>& items, int id, const std::string& noun, size_t least, size_t most,
+              const Kind& kind, const Fields& fields, const Added& added) {
+  bool changed = false;
+  for (size_t i = 0; i < items.size(); ++i) {
+    ImGui::PushID(id + int(i));
+    const std::string title = noun + " " + std::to_string(i) + " (" + kind(items[i]) + ")";
+    if (ImGui::TreeNode(title.c_str())) {
+      changed |= fields(items[i]);
+      if (items.size() > least && ImGui::SmallButton(("remove " + noun).c_str())) {
+        items.erase(items.begin() + long(i));
+        changed = true;
+        ImGui::TreePop();
+        ImGui::PopID();
+        break;
+      }
+      ImGui::TreePop();
+    }
+    ImGui::PopID();
+  }
+  if (items.size() < most && ImGui::SmallButton(("add " + noun).c_str())) {
+    items.push_back(added());
+    changed = true;
+  }
+  return changed;
+}
+
 }  // namespace
 
 bool sameStructure(const Scene& a, const Scene& b) {
@@ -71,80 +101,49 @@ bool sameStructure(const Scene& a, const Scene& b) {
 }
 
 bool ScenePanel::emitters() {
-  bool changed = false;
-  for (size_t k = 0; k < edited_.emitters.size(); ++k) {
-    Emitter& e = edited_.emitters[k];
-    ImGui::PushID(int(k));
-    const std::string title = "emitter " + std::to_string(k) + " (" + name(e.shape) + ")";
-    if (ImGui::TreeNode(title.c_str())) {
-      changed |= edit("particles", e.particles, 64.0f);
-      changed |= edit("rate (1/s)", e.rate, 10.0);
-      changed |= edit("burst", e.burst, 10.0f);
-      changed |= edit("burst interval (s)", e.burstInterval, 0.01);
-      changed |= choose("shape", e.shape, 4);
-      changed |= edit("position (m)", e.position);
-      if (e.shape == Shape::Disc || e.shape == Shape::Sphere)
-        changed |= edit("radius (m)", e.radius);
-      if (e.shape == Shape::Box) changed |= edit("half-extents (m)", e.size);
-      changed |= edit("velocity (m/s)", e.velocity, 0.05f);
-      changed |= edit("spread (m/s)", e.spread, 0.02f);
-      changed |= edit("mass (kg)", e.mass);
-      changed |= edit("lifetime (s)", e.lifetime);
-      if (ImGui::Checkbox("flow (molten rock)", &e.flow)) {
-        changed = true;
-        if (e.flow && !edited_.flow) edited_.flow.emplace();
-        if (e.flow) {  // a flow particle's mass at the rest spacing, radius / 2
-          const float spacing = 0.5f * edited_.flow->radius;
-          e.mass = edited_.flow->density * spacing * spacing * spacing;
-        }
+  const auto fields = [&](Emitter& e) {
+    bool changed = false;
+    changed |= edit("particles", e.particles, 64.0f);
+    changed |= edit("rate (1/s)", e.rate, 10.0);
+    changed |= edit("burst", e.burst, 10.0f);
+    changed |= edit("burst interval (s)", e.burstInterval, 0.01);
+    changed |= choose("shape", e.shape, 4);
+    changed |= edit("position (m)", e.position);
+    if (e.shape == Shape::Disc || e.shape == Shape::Sphere) changed |= edit("radius (m)", e.radius);
+    if (e.shape == Shape::Box) changed |= edit("half-extents (m)", e.size);
+    changed |= edit("velocity (m/s)", e.velocity, 0.05f);
+    changed |= edit("spread (m/s)", e.spread, 0.02f);
+    changed |= edit("mass (kg)", e.mass);
+    changed |= edit("lifetime (s)", e.lifetime);
+    if (ImGui::Checkbox("flow (molten rock)", &e.flow)) {
+      changed = true;
+      if (e.flow && !edited_.flow) edited_.flow.emplace();
+      if (e.flow) {  // a flow particle's mass at the rest spacing, radius / 2
+        const float spacing = 0.5f * edited_.flow->radius;
+        e.mass = edited_.flow->density * spacing * spacing * spacing;
       }
-      if (e.flow) changed |= edit("temperature (K, 0: the flow's)", e.temperature, 1.0f);
-      if (edited_.emitters.size() > 1 && ImGui::SmallButton("remove emitter")) {
-        edited_.emitters.erase(edited_.emitters.begin() + long(k));
-        changed = true;
-        ImGui::TreePop();
-        ImGui::PopID();
-        break;
-      }
-      ImGui::TreePop();
     }
-    ImGui::PopID();
-  }
-  if (edited_.emitters.size() < kMaxEmitters && ImGui::SmallButton("add emitter")) {
-    edited_.emitters.push_back(edited_.emitters.back());
-    changed = true;
-  }
-  return changed;
+    if (e.flow) changed |= edit("temperature (K, 0: the flow's)", e.temperature, 1.0f);
+    return changed;
+  };
+  return editList(
+      edited_.emitters, 0, "emitter", 1, kMaxEmitters,
+      [](const Emitter& e) { return name(e.shape); }, fields,
+      [&] { return Emitter(edited_.emitters.back()); });
 }
 
 bool ScenePanel::forces() {
-  bool changed = false;
-  for (size_t i = 0; i < edited_.forces.size(); ++i) {
-    Force& f = edited_.forces[i];
-    ImGui::PushID(100 + int(i));
-    const std::string title = "force " + std::to_string(i) + " (" + name(f.type) + ")";
-    if (ImGui::TreeNode(title.c_str())) {
-      changed |= choose("type", f.type, 2);
-      changed |= edit("position (m)", f.position);
-      if (f.type == ForceType::Vortex) changed |= edit("axis", f.axis);
-      changed |= edit("strength", f.strength);
-      if (f.type == ForceType::Attractor) changed |= edit("radius (m, 0: all)", f.radius);
-      if (ImGui::SmallButton("remove force")) {
-        edited_.forces.erase(edited_.forces.begin() + long(i));
-        changed = true;
-        ImGui::TreePop();
-        ImGui::PopID();
-        break;
-      }
-      ImGui::TreePop();
-    }
-    ImGui::PopID();
-  }
-  if (edited_.forces.size() < kMaxForces && ImGui::SmallButton("add force")) {
-    edited_.forces.push_back(Force{});
-    changed = true;
-  }
-  return changed;
+  const auto fields = [](Force& f) {
+    bool changed = choose("type", f.type, 2);
+    changed |= edit("position (m)", f.position);
+    if (f.type == ForceType::Vortex) changed |= edit("axis", f.axis);
+    changed |= edit("strength", f.strength);
+    if (f.type == ForceType::Attractor) changed |= edit("radius (m, 0: all)", f.radius);
+    return changed;
+  };
+  return editList(
+      edited_.forces, 100, "force", 0, kMaxForces, [](const Force& f) { return name(f.type); },
+      fields, [] { return Force{}; });
 }
 
 bool ScenePanel::flow() {
@@ -176,48 +175,33 @@ bool ScenePanel::flow() {
 }
 
 bool ScenePanel::colliders() {
-  bool changed = false;
-  for (size_t i = 0; i < edited_.colliders.size(); ++i) {
-    Collider& c = edited_.colliders[i];
-    ImGui::PushID(200 + int(i));
-    const std::string title = "collider " + std::to_string(i) + " (" + name(c.type) + ")";
-    if (ImGui::TreeNode(title.c_str())) {
-      changed |= choose("type", c.type, 4);
-      changed |= edit("position (m)", c.position);
-      switch (c.type) {
-        case ColliderType::Plane:
-          changed |= edit("normal", c.normal);
-          break;
-        case ColliderType::Sphere:
-          changed |= edit("radius (m)", c.radius);
-          break;
-        case ColliderType::Box:
-          changed |= edit("half-extents (m)", c.size);
-          break;
-        case ColliderType::Cone:
-          changed |= edit("base radius (m)", c.baseRadius);
-          changed |= edit("top radius (m)", c.topRadius);
-          changed |= edit("height (m)", c.height);
-          break;
-      }
-      changed |= edit("restitution", c.restitution);
-      changed |= edit("friction (kept)", c.friction);
-      if (ImGui::SmallButton("remove collider")) {
-        edited_.colliders.erase(edited_.colliders.begin() + long(i));
-        changed = true;
-        ImGui::TreePop();
-        ImGui::PopID();
+  const auto fields = [](Collider& c) {
+    bool changed = false;
+    changed |= choose("type", c.type, 4);
+    changed |= edit("position (m)", c.position);
+    switch (c.type) {
+      case ColliderType::Plane:
+        changed |= edit("normal", c.normal);
         break;
-      }
-      ImGui::TreePop();
+      case ColliderType::Sphere:
+        changed |= edit("radius (m)", c.radius);
+        break;
+      case ColliderType::Box:
+        changed |= edit("half-extents (m)", c.size);
+        break;
+      case ColliderType::Cone:
+        changed |= edit("base radius (m)", c.baseRadius);
+        changed |= edit("top radius (m)", c.topRadius);
+        changed |= edit("height (m)", c.height);
+        break;
     }
-    ImGui::PopID();
-  }
-  if (edited_.colliders.size() < kMaxColliders && ImGui::SmallButton("add collider")) {
-    edited_.colliders.push_back(Collider{});
-    changed = true;
-  }
-  return changed;
+    changed |= edit("restitution", c.restitution);
+    changed |= edit("friction (kept)", c.friction);
+    return changed;
+  };
+  return editList(
+      edited_.colliders, 200, "collider", 0, kMaxColliders,
+      [](const Collider& c) { return name(c.type); }, fields, [] { return Collider{}; });
 }
 
 ScenePanel::Change ScenePanel::draw(const Scene& running) {
