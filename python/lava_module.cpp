@@ -454,11 +454,21 @@ void setKeys(lava::Scene& scene, const py::kwargs& keys) {
   }
 }
 
-}  // namespace
+// Each RGBA frame as a uint8 (height, width, 3) array, alpha dropped: render()'s result.
+py::list rgbFrames(const std::vector<std::vector<uint8_t>>& images, VkExtent2D size) {
+  py::list out;
+  for (const std::vector<uint8_t>& rgba : images) {
+    py::array_t<uint8_t> rgb({py::ssize_t(size.height), py::ssize_t(size.width), py::ssize_t(3)});
+    uint8_t* to = rgb.mutable_data();
+    for (size_t p = 0; p < size_t(size.width) * size.height; ++p)
+      std::memcpy(to + 3 * p, rgba.data() + 4 * p, 3);
+    out.append(rgb);
+  }
+  return out;
+}
 
-PYBIND11_MODULE(_lava, m) {
-  m.doc() = "Lava: a Vulkan compute-shader particle engine, bit-exact on GPU and CPU";
-  m.attr("__version__") = lava::versionString();
+// lava.Error, its subclasses and lava.ArgumentTypeError; InvalidArgument as ValueError.
+void bindErrors(py::module_& m) {
   // Vulkan and resource errors are RuntimeErrors; bad input is a ValueError naming it.
   // Translators are tried newest first: the subclasses after their base.
   const auto error = py::register_exception<lava::Error>(m, "Error", PyExc_RuntimeError);
@@ -480,36 +490,11 @@ PYBIND11_MODULE(_lava, m) {
       PyErr_SetString(PyExc_ValueError, e.what());
     }
   });
+}
 
-  py::class_<lava::Scene>(m, "Scene", R"(A scene: emitters, forces, colliders, integrator and step.
-
-Scene(path=None, **keys) loads a TOML scene file (format 1 or 2) and sets keys given as
-keywords, the command line's flags with '-' written '_' (rate=4000, emitter_radius=0.2).
-str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)")
-      .def(py::init([](const py::object& path, const py::kwargs& keys) {
-             lava::Scene scene = options(path, py::kwargs(), {}, {}, "path").scene;
-             setKeys(scene, keys);
-             lava::checkScene(scene);
-             return scene;
-           }),
-           py::arg("path") = py::none())
-      .def_static(
-          "from_toml",
-          [](const std::string& text, const std::string& name) {
-            return lava::parseScene(text, name, [](const std::string& key, const std::string&) {
-              return kProgramKeys.count(key) > 0;
-            });
-          },
-          py::arg("text"), py::arg("name") = "<string>",
-          "Reads a scene from TOML text; ValueError naming the key for bad input.")
-      .def("to_toml", &lava::toToml, "The scene as format-2 TOML text.")
-      .def(
-          "save",
-          [](const lava::Scene& scene, const std::string& path) {
-            py::module_::import("pathlib").attr("Path")(path).attr("write_text")(
-                lava::toToml(scene));
-          },
-          py::arg("path"), "Writes the scene to a TOML file that Scene(path) reads back.")
+// lava.Scene's keys: set(), the counts of its parts, and to_dict().
+void bindSceneKeys(py::class_<lava::Scene>& sceneClass) {
+  sceneClass
       .def(
           "set",
           [](lava::Scene& scene, const std::string& key, const py::object& value,
@@ -556,7 +541,12 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
           },
           "The scene as a dict of its TOML: top-level keys, lists of tables under\n"
           "'emitter', 'force' and 'collider', and 'flow' when it has one (a copy: edit\n"
-          "with set()).")
+          "with set()).");
+}
+
+// lava.Scene's top-level keys as attributes, its TOML as str(), and equality by TOML.
+void bindSceneAttributes(py::class_<lava::Scene>& sceneClass) {
+  sceneClass
       .def(
           "__getattr__",
           [](const lava::Scene& scene, const std::string& name) -> py::object {
@@ -601,7 +591,47 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
       .def("__eq__", [](const lava::Scene& a, const lava::Scene& b) {
         return lava::toToml(a) == lava::toToml(b);
       });
+}
 
+// lava.Scene: its constructor and TOML text and files, then its keys and attributes.
+void bindScene(py::module_& m) {
+  py::class_<lava::Scene> sceneClass(
+      m, "Scene", R"(A scene: emitters, forces, colliders, integrator and step.
+
+Scene(path=None, **keys) loads a TOML scene file (format 1 or 2) and sets keys given as
+keywords, the command line's flags with '-' written '_' (rate=4000, emitter_radius=0.2).
+str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)");
+  sceneClass
+      .def(py::init([](const py::object& path, const py::kwargs& keys) {
+             lava::Scene scene = options(path, py::kwargs(), {}, {}, "path").scene;
+             setKeys(scene, keys);
+             lava::checkScene(scene);
+             return scene;
+           }),
+           py::arg("path") = py::none())
+      .def_static(
+          "from_toml",
+          [](const std::string& text, const std::string& name) {
+            return lava::parseScene(text, name, [](const std::string& key, const std::string&) {
+              return kProgramKeys.count(key) > 0;
+            });
+          },
+          py::arg("text"), py::arg("name") = "<string>",
+          "Reads a scene from TOML text; ValueError naming the key for bad input.")
+      .def("to_toml", &lava::toToml, "The scene as format-2 TOML text.")
+      .def(
+          "save",
+          [](const lava::Scene& scene, const std::string& path) {
+            py::module_::import("pathlib").attr("Path")(path).attr("write_text")(
+                lava::toToml(scene));
+          },
+          py::arg("path"), "Writes the scene to a TOML file that Scene(path) reads back.");
+  bindSceneKeys(sceneClass);
+  bindSceneAttributes(sceneClass);
+}
+
+// lava.simulate(): a run's final state, and optionally its series.
+void bindSimulate(py::module_& m) {
   m.def(
       "simulate",
       [](const py::object& steps, const py::object& backend, const py::object& scene,
@@ -634,7 +664,10 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
       "values raise ValueError naming the parameter; Ctrl-C interrupts between batches.\n"
       "series=FOLDER, every=K also write the state every K steps as a VTK time series for\n"
       "ParaView, as `lava simulate --series FOLDER --every K` (FOLDER.pvd beside it).");
+}
 
+// lava.validate(): the GPU against the CPU reference, checkpoint by checkpoint.
+void bindValidate(py::module_& m) {
   m.def(
       "validate",
       [](const py::object& stepsArg, const py::object& every, const py::object& scene,
@@ -679,7 +712,10 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
       "steps (default steps/10), and returns {'passed', 'first_divergent_step' (None when\n"
       "bit-exact), 'first_difference', 'checkpoints': [{'step', 'equal', 'particles',\n"
       "'alive', 'max_dx', 'max_dv', 'max_ulp'}]}. tolerance_ulp=U accepts U ULPs.");
+}
 
+// lava.render(): frames as `lava render` draws them, as numpy arrays.
+void bindRender(py::module_& m) {
   m.def(
       "render",
       [](const py::object& scene, const py::object& framesArg, const py::object& size,
@@ -722,16 +758,7 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
           });
         }
         raiseOnValidation(d);
-        py::list out;
-        for (const std::vector<uint8_t>& rgba : images) {
-          py::array_t<uint8_t> rgb({py::ssize_t(run.size.height), py::ssize_t(run.size.width),
-                                    py::ssize_t(3)});
-          uint8_t* to = rgb.mutable_data();
-          for (size_t p = 0; p < size_t(run.size.width) * run.size.height; ++p)
-            std::memcpy(to + 3 * p, rgba.data() + 4 * p, 3);
-          out.append(rgb);
-        }
-        return out;
+        return rgbFrames(images, run.size);
       },
       py::arg("scene") = py::none(), py::arg("frames") = 1,
       py::arg("size") = py::make_tuple(1280, 720),
@@ -740,11 +767,51 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
       "with the same arguments. size=(width, height) or 'WxH'; keywords: fps (30), warmup (3 s),\n"
       "renderer ('lines' or 'splat'; splat from 16384 particles), look ('lava' or\n"
       "'plain'), exposure, bloom, bloom_threshold, device, and the scene's keys.");
+}
 
-  py::class_<Simulation>(m, "Simulation",
-                         "A simulation to advance step by step: Simulation(scene=None,\n"
-                         "backend='gpu', **keys), `scene` a lava.Scene or a TOML path, the\n"
-                         "keywords those of simulate().")
+// lava.Simulation's read-only properties: its particles, step, backend and scene.
+void bindSimulationProperties(py::class_<Simulation>& simulationClass) {
+  simulationClass
+      .def_property_readonly(
+          "particles",
+          [](py::object self) {
+            Simulation& s = self.cast<Simulation&>();
+            if (lava::CpuSimulation* cpu = s.cpu()) {
+              // The CPU backend's memory itself: no copy, alive as long as the Simulation.
+              const std::vector<lava::Particle>& p = cpu->view().particles;
+              py::array_t<float> view({py::ssize_t(p.size()), py::ssize_t(8)},
+                                      {py::ssize_t(sizeof(lava::Particle)), py::ssize_t(4)},
+                                      &p.front().px, self);
+              view.attr("flags").attr("writeable") = false;
+              return view;
+            }
+            const std::vector<lava::Particle> p = s.simulation().state().particles;
+            py::array_t<float> out({py::ssize_t(p.size()), py::ssize_t(8)});
+            std::memcpy(out.mutable_data(), p.data(), p.size() * sizeof(lava::Particle));
+            return out;
+          },
+          "Raw slots, float32 (particles, 8): px py pz age vx vy vz mass. For the CPU backend\n"
+          "a read-only view of its memory (no copy, updated by advance()); for the GPU a\n"
+          "read-back copy.")
+      .def_property_readonly("step", &Simulation::step, "Steps taken since the start.")
+      .def_property_readonly("backend", &Simulation::backend,
+                             "'gpu', 'cpu' or 'cpu-simd'.")
+      .def_property_readonly(
+          "scene", [](const Simulation& s) { return s.scene(); },
+          "The running scene (a copy): a lava.Scene.")
+      .def_property_readonly(
+          "scene_toml", [](const Simulation& s) { return lava::toToml(s.scene()); },
+          "The scene as a format-2 TOML text (save it, load it with scene=...).");
+}
+
+// lava.Simulation: made, resumed, advanced, read, written and checkpointed.
+void bindSimulation(py::module_& m) {
+  py::class_<Simulation> simulationClass(
+      m, "Simulation",
+      "A simulation to advance step by step: Simulation(scene=None,\n"
+      "backend='gpu', **keys), `scene` a lava.Scene or a TOML path, the\n"
+      "keywords those of simulate().");
+  simulationClass
       .def(py::init<const py::object&, const py::object&, const py::kwargs&>(),
            py::arg("scene") = py::none(), py::arg("backend") = "gpu")
       .def_static(
@@ -783,35 +850,19 @@ str(scene) is its format-2 TOML; Scene.from_toml(text) reads one back exactly.)"
            "step and the emitters' clocks stay.")
       .def("checkpoint", &Simulation::checkpoint, py::arg("path"),
            "Writes the scene and the whole state to a checkpoint file (atomically), which\n"
-           "Simulation.resume() and `lava simulate --resume` continue bit for bit.")
-      .def_property_readonly(
-          "particles",
-          [](py::object self) {
-            Simulation& s = self.cast<Simulation&>();
-            if (lava::CpuSimulation* cpu = s.cpu()) {
-              // The CPU backend's memory itself: no copy, alive as long as the Simulation.
-              const std::vector<lava::Particle>& p = cpu->view().particles;
-              py::array_t<float> view({py::ssize_t(p.size()), py::ssize_t(8)},
-                                      {py::ssize_t(sizeof(lava::Particle)), py::ssize_t(4)},
-                                      &p.front().px, self);
-              view.attr("flags").attr("writeable") = false;
-              return view;
-            }
-            const std::vector<lava::Particle> p = s.simulation().state().particles;
-            py::array_t<float> out({py::ssize_t(p.size()), py::ssize_t(8)});
-            std::memcpy(out.mutable_data(), p.data(), p.size() * sizeof(lava::Particle));
-            return out;
-          },
-          "Raw slots, float32 (particles, 8): px py pz age vx vy vz mass. For the CPU backend\n"
-          "a read-only view of its memory (no copy, updated by advance()); for the GPU a\n"
-          "read-back copy.")
-      .def_property_readonly("step", &Simulation::step, "Steps taken since the start.")
-      .def_property_readonly("backend", &Simulation::backend,
-                             "'gpu', 'cpu' or 'cpu-simd'.")
-      .def_property_readonly(
-          "scene", [](const Simulation& s) { return s.scene(); },
-          "The running scene (a copy): a lava.Scene.")
-      .def_property_readonly(
-          "scene_toml", [](const Simulation& s) { return lava::toToml(s.scene()); },
-          "The scene as a format-2 TOML text (save it, load it with scene=...).");
+           "Simulation.resume() and `lava simulate --resume` continue bit for bit.");
+  bindSimulationProperties(simulationClass);
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_lava, m) {
+  m.doc() = "Lava: a Vulkan compute-shader particle engine, bit-exact on GPU and CPU";
+  m.attr("__version__") = lava::versionString();
+  bindErrors(m);
+  bindScene(m);
+  bindSimulate(m);
+  bindValidate(m);
+  bindRender(m);
+  bindSimulation(m);
 }

@@ -35,6 +35,35 @@ constexpr VkPipelineStageFlags kTests =
     VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
 constexpr VkPipelineStageFlags kColorStage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
 
+// The passes' dependencies, which carry the frame from pass to pass (`second`: the lines'
+// pass; else the backdrop's).
+void dependencies(bool second, VkSubpassDependency (&deps)[2]) {
+  // In: the first pass waits for the acquired image (its semaphore's stage) and for the
+  // last frame's depth tests and splat to finish with the depth (WAR); the second, for
+  // the first pass's colour.
+  deps[0] = {VK_SUBPASS_EXTERNAL,
+             0,
+             kColorStage | kTests | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+             kColorStage | kTests,
+             VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+             VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
+                 VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
+                 VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+             0};
+  // Out: the first pass's colour to the second's load, its depth to the splat (compute)
+  // and the second's tests; the second's colour to presentation.
+  deps[1] = {0,
+             VK_SUBPASS_EXTERNAL,
+             kColorStage | kTests,
+             second ? VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT
+                    : kColorStage | kTests | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+             VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+             second ? VkAccessFlags{0}
+                    : VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
+                          VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_SHADER_READ_BIT,
+             0};
+}
+
 // `second`: the lines' pass (loads the colour, depth read-only, then presents); else the
 // backdrop's (clears both; leaves the depth read-only for Lava's splat). The dependencies
 // carry the frame from pass to pass; Lava's own barriers are recorded outside them.
@@ -63,31 +92,8 @@ VkRenderPass createRenderPass(VkDevice device, bool second) {
   subpass.colorAttachmentCount = 1;
   subpass.pColorAttachments = &color;
   subpass.pDepthStencilAttachment = &depth;
-  VkSubpassDependency deps[2]{};
-  // In: the first pass waits for the acquired image (its semaphore's stage) and for the
-  // last frame's depth tests and splat to finish with the depth (WAR); the second, for
-  // the first pass's colour.
-  deps[0] = {VK_SUBPASS_EXTERNAL,
-             0,
-             kColorStage | kTests | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-             kColorStage | kTests,
-             VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-             VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
-                 VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
-                 VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-             0};
-  // Out: the first pass's colour to the second's load, its depth to the splat (compute)
-  // and the second's tests; the second's colour to presentation.
-  deps[1] = {0,
-             VK_SUBPASS_EXTERNAL,
-             kColorStage | kTests,
-             second ? VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT
-                    : kColorStage | kTests | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-             VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-             second ? VkAccessFlags{0}
-                    : VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
-                          VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_SHADER_READ_BIT,
-             0};
+  VkSubpassDependency deps[2];
+  dependencies(second, deps);
   VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
   info.attachmentCount = 2;
   info.pAttachments = a;

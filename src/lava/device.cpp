@@ -244,6 +244,19 @@ VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT,
   return VK_FALSE;
 }
 
+// ResourceError unless the validation layer is installed.
+void checkValidationLayer(const detail::Vk& vk) {
+  uint32_t count = 0;
+  VK_CHECK(vk.EnumerateInstanceLayerProperties(&count, nullptr));
+  std::vector<VkLayerProperties> layers(count);
+  VK_CHECK(vk.EnumerateInstanceLayerProperties(&count, layers.data()));
+  if (!std::any_of(layers.begin(), layers.end(), [](const VkLayerProperties& l) {
+        return std::strcmp(l.layerName, kValidationLayer) == 0;
+      }))
+    throw ResourceError(
+        "the Vulkan validation layer is not installed (Debian: vulkan-validationlayers)");
+}
+
 void createInstance(DeviceContext& c, const DeviceOptions& options) {
   detail::Vk& vk = c.vk;
   uint32_t count = 0;
@@ -251,16 +264,7 @@ void createInstance(DeviceContext& c, const DeviceOptions& options) {
   std::vector<VkExtensionProperties> available(count);
   VK_CHECK(vk.EnumerateInstanceExtensionProperties(nullptr, &count, available.data()));
   available.resize(count);
-  if (options.validation) {
-    VK_CHECK(vk.EnumerateInstanceLayerProperties(&count, nullptr));
-    std::vector<VkLayerProperties> layers(count);
-    VK_CHECK(vk.EnumerateInstanceLayerProperties(&count, layers.data()));
-    if (!std::any_of(layers.begin(), layers.end(), [](const VkLayerProperties& l) {
-          return std::strcmp(l.layerName, kValidationLayer) == 0;
-        }))
-      throw ResourceError(
-          "the Vulkan validation layer is not installed (Debian: vulkan-validationlayers)");
-  }
+  if (options.validation) checkValidationLayer(vk);
 
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = options.applicationName.c_str();

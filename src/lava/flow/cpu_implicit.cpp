@@ -90,6 +90,13 @@ struct Wall {
   float friction;
 };
 
+// Whether any of the first `count` solids lies closer than `within`.
+bool anyCloser(const Wall* near, uint32_t count, float within) {
+  for (uint32_t b = 0; b < count; ++b)
+    if (near[b].d < within) return true;
+  return false;
+}
+
 // A pair's viscous weights with j mirrored in each solid near i (across the plane through
 // i's nearest point of it, when j lies outside that plane): t^2 plus each image's t^2 on i's
 // diagonal, times (2 friction - 1) on its coupling to j. d = x_i - x_j.
@@ -291,10 +298,8 @@ void FlowStepper::gatherNeighbours(const State& state, float hs) {
       list[count++] = {g, t2, diagonal, coupling, stored(unit)};
     });
     theta = theta + (1.0f - open);
-    const V gradWall{-slope.x, -slope.y, -slope.z};
-    grad = grad + gradWall;
-    bool close = false;
-    for (uint32_t b = 0; b < walls; ++b) close = close || near[b].d < ik_.near;
+    grad = grad - slope;  // the solids' share of the gradient is -slope
+    const bool close = anyCloser(near, walls, ik_.near);
     count_[f] = count;
     o.theta = theta;
     o.invG = reciprocal(hs * ((dot(grad, grad) + moving) + ik_.epsilon));
@@ -302,7 +307,7 @@ void FlowStepper::gatherNeighbours(const State& state, float hs) {
     o.conductive = stable(conduction * conductive);
     o.touches = touches || close;
     o.near = close;
-    gradWall_[f] = stored(gradWall);
+    gradWall_[f] = stored(V{-slope.x, -slope.y, -slope.z});
   });
 }
 

@@ -55,6 +55,24 @@ void CpuSimulation::setState(const State& state) {
   state_ = state;
 }
 
+namespace {
+
+// Each emitter's births for the next `batch` steps, its clock advanced past them, and the
+// state's step with them.
+void planBirths(const Scene& scene, float h, uint64_t batch, State& state,
+                std::vector<std::vector<detail::Births>>& schedule) {
+  for (size_t k = 0; k < scene.emitters.size(); ++k) {
+    const Emitter& e = scene.emitters[k];
+    const uint64_t period = detail::burstPeriod(e, scene.dt);
+    schedule[k].clear();
+    for (uint64_t i = 0; i < batch; ++i)
+      schedule[k].push_back(detail::advanceClock(state.clocks[k], e, h, period, state.step + i));
+  }
+  state.step += batch;
+}
+
+}  // namespace
+
 void CpuSimulation::advance(uint64_t steps) {
   const float h = scene_.h();
   const detail::Reference reference(scene_);
@@ -63,15 +81,7 @@ void CpuSimulation::advance(uint64_t steps) {
   std::vector<std::vector<detail::Births>> schedule(scene_.emitters.size());
   while (steps > 0) {
     const uint64_t batch = std::min(steps, kScheduleBatch);
-    for (size_t k = 0; k < scene_.emitters.size(); ++k) {
-      const Emitter& e = scene_.emitters[k];
-      const uint64_t period = detail::burstPeriod(e, scene_.dt);
-      schedule[k].clear();
-      for (uint64_t i = 0; i < batch; ++i)
-        schedule[k].push_back(
-            detail::advanceClock(state_.clocks[k], e, h, period, state_.step + i));
-    }
-    state_.step += batch;
+    planBirths(scene_, h, batch, state_, schedule);
 
     // A block of particles goes through the steps together: their independent dependency
     // chains overlap in the CPU's pipeline, and the block stays in L1.

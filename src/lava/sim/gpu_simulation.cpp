@@ -206,11 +206,10 @@ void GpuSimulation::Impl::recordInit(VkCommandBuffer commands) {
   initPending = false;
 }
 
-GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
-                             const GpuSimulationOptions& options)
-    : Simulation(scene), impl_(std::make_unique<Impl>(device.context(), options)) {
-  Impl& m = *impl_;
-  detail::DeviceContext& c = m.c;
+namespace {
+
+// InvalidArgument naming the option that is out of range.
+void checkOptions(const GpuSimulationOptions& options) {
   if (options.maxStepsPerFrame < 1 || options.maxStepsPerFrame > 65536)
     throw InvalidArgument("maxStepsPerFrame",
                           "expected 1 to 65536, got " + std::to_string(options.maxStepsPerFrame));
@@ -219,6 +218,28 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
                           "expected 1 to 256, got " + std::to_string(options.stepsPerDispatch));
   if (options.maxParticleStepsPerSubmission < 1)
     throw InvalidArgument("maxParticleStepsPerSubmission", "expected at least 1, got 0");
+  if (options.maxParticlesPerChunk > 0 && options.maxParticlesPerChunk < gpu::kWorkgroupSize)
+    throw InvalidArgument("maxParticlesPerChunk",
+                          "expected 0 or at least " + std::to_string(gpu::kWorkgroupSize) +
+                              ", got " + std::to_string(options.maxParticlesPerChunk));
+}
+
+// The particles a buffer holds: the device's, or fewer whole workgroups when asked.
+uint32_t particlesPerChunk(const Device& device, const GpuSimulationOptions& options) {
+  const uint32_t perChunk = device.particlesPerChunk();
+  if (options.maxParticlesPerChunk == 0) return perChunk;
+  return std::min(perChunk, options.maxParticlesPerChunk -
+                                options.maxParticlesPerChunk % gpu::kWorkgroupSize);
+}
+
+}  // namespace
+
+GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
+                             const GpuSimulationOptions& options)
+    : Simulation(scene), impl_(std::make_unique<Impl>(device.context(), options)) {
+  Impl& m = *impl_;
+  detail::DeviceContext& c = m.c;
+  checkOptions(options);
   const uint64_t total = scene.particles();
   const uint64_t limit = device.maxParticles();
   if (total > limit)
@@ -227,15 +248,7 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
                                            " MiB; device '" + c.properties.deviceName +
                                            "' allows at most " + std::to_string(limit));
 
-  uint32_t perChunk = device.particlesPerChunk();
-  if (options.maxParticlesPerChunk > 0) {
-    if (options.maxParticlesPerChunk < gpu::kWorkgroupSize)
-      throw InvalidArgument("maxParticlesPerChunk",
-                            "expected 0 or at least " + std::to_string(gpu::kWorkgroupSize) +
-                                ", got " + std::to_string(options.maxParticlesPerChunk));
-    perChunk = std::min(perChunk, options.maxParticlesPerChunk -
-                                      options.maxParticlesPerChunk % gpu::kWorkgroupSize);
-  }
+  const uint32_t perChunk = particlesPerChunk(device, options);
   for (uint64_t first = 0; first < total; first += perChunk) {
     const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(perChunk, total - first));
     m.buffers.emplace_back(c, VkDeviceSize{count} * kParticleBytes,
