@@ -390,6 +390,46 @@ void density(uint i) {
   scratch[i].rates = vec4(pi, stable(viscous), stable(conduction), touches ? 1.0 : 0.0);
 }
 
+// The step of a slot that is not crust, from its pass-2 sums a and dv: a liquid moves under
+// viscosity, pressure and the forces, a solid touching crust becomes crust where it is, a
+// cinder falls; then the contact with the ground and the solids.
+void move(World g, uint k, Particle pi, bool liquid, bool touchesCrust, vec3 a, vec3 dv,
+          inout vec3 position, inout vec3 velocity, inout bool touched, inout bool becomesCrust,
+          inout bool dies) {
+  precise float h = g.h;
+  precise vec3 x = position, v = velocity;
+  const EmitterParams ep = scene.emitters[k];
+  precise float hm = ep.size.w;
+  precise vec3 f;
+  if (liquid) {  // viscosity, then a semi-implicit Euler step with pressure and the forces
+    v = v + dv;
+    flush(v);
+    force(g, x, v, ep.constants.z, f);
+    v = (v + hm * f) + h * a;
+    flush(v);
+    x = x + h * v;
+  } else if (touchesCrust) {  // a solid touching crust: crust where it is
+    becomesCrust = true;
+  } else {  // a cinder: falls as any particle
+    force(g, x, v, ep.constants.z, f);
+    v = v + hm * f;
+    flush(v);
+    x = x + h * v;
+  }
+  if (!becomesCrust && nonFinite(x, v)) {  // docs/model.md "Non-finite values"
+    x = vec3(0.0);
+    v = vec3(0.0);
+    dies = true;
+  } else if (!becomesCrust) {
+    dies = contactFrom(pi.posAge.xyz, flow.contact.y, g.friction, flow.contact.y, x, v,
+                       touched);
+    becomesCrust = !liquid && touched;
+  }
+  if (becomesCrust) v = vec3(0.0);
+  position = x;
+  velocity = v;
+}
+
 // Pass 2 and the step: every slot reads the start-of-step state of the others and writes
 // its results to next[].
 void forces(uint i) {
@@ -432,36 +472,7 @@ void forces(uint i) {
   precise float h = g.h;
   precise vec3 x = pi.posAge.xyz, v = pi.velMass.xyz;
   bool touched = false, becomesCrust = isCrust, dies = false;
-  if (!isCrust) {
-    const EmitterParams ep = scene.emitters[k];
-    precise float hm = ep.size.w;
-    precise vec3 f;
-    if (liquid) {  // viscosity, then a semi-implicit Euler step with pressure and the forces
-      v = v + dv;
-      flush(v);
-      force(g, x, v, ep.constants.z, f);
-      v = (v + hm * f) + h * a;
-      flush(v);
-      x = x + h * v;
-    } else if (ri.w != 0.0) {  // a solid touching crust: crust where it is
-      becomesCrust = true;
-    } else {  // a cinder: falls as any particle
-      force(g, x, v, ep.constants.z, f);
-      v = v + hm * f;
-      flush(v);
-      x = x + h * v;
-    }
-    if (!becomesCrust && nonFinite(x, v)) {  // docs/model.md "Non-finite values"
-      x = vec3(0.0);
-      v = vec3(0.0);
-      dies = true;
-    } else if (!becomesCrust) {
-      dies = contactFrom(pi.posAge.xyz, flow.contact.y, g.friction, flow.contact.y, x, v,
-                         touched);
-      becomesCrust = !liquid && touched;
-    }
-    if (becomesCrust) v = vec3(0.0);
-  }
+  if (!isCrust) move(g, k, pi, liquid, ri.w != 0.0, a, dv, x, v, touched, becomesCrust, dies);
   precise float cool = touched ? flow.rates.w : flow.rates.z;
   precise float t1 = (hi.temperature + dT) - cool * (hi.temperature - flow.heat.z);
   precise float age = pi.posAge.w + h;

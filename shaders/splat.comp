@@ -85,6 +85,40 @@ void addPixels(uint at, uint add, bool both) {
 }
 #endif
 
+// Adds `add` to the line's n pixels from `first` along the major axis, its minor
+// coordinate starting at `minor` and rising by `slope` a pixel; off the target, nothing.
+void addLine(bool xMajor, int first, uint n, float minor, float slope, uint minorSize,
+             float majorSize, uint add) {
+#if LAVA_SPLAT_PAIRS
+  for (uint k = 0u; k < n;) {
+    uint major = uint(first) + k;
+    uint across = uint(int(floor(minor)));  // negative wraps to huge: one unsigned test
+    float next = minor + slope;
+    // A steep line's pixel on an even row and its next one below, in the same column: one
+    // word. (The pair lies on the target when its first pixel does: first + n is on it.)
+    bool both = !xMajor && (major & 1u) == 0u && k + 1u < n && uint(int(floor(next))) == across;
+    if (across < minorSize && major < uint(majorSize)) {
+      uvec2 p = xMajor ? uvec2(major, across) : uvec2(across, major);
+      addPixels(splatIndex(p.x, p.y, s.target.x), add, both);
+    }
+    minor = both ? next + slope : next;
+    k += both ? 2u : 1u;
+  }
+#else
+  for (uint k = 0u; k < n; ++k, minor += slope) {
+    uint major = uint(first) + k;
+    uint across = uint(int(floor(minor)));  // negative wraps to huge: one unsigned test
+    if (across < minorSize && major < uint(majorSize)) {
+      uvec2 p = xMajor ? uvec2(major, across) : uvec2(across, major);
+      uint at = splatIndex(p.x, p.y, s.target.x);
+      // A pixel full beyond any tone map is left as it is (what was added taken back): red
+      // stays below 2^16 and green, never more than red in either look, below red.
+      if ((atomicAdd(accumulation[at], add) >> 16) >= kSplatFull) atomicAdd(accumulation[at], -add);
+    }
+  }
+#endif
+}
+
 void main() {
   uint i = s.range.x + gl_GlobalInvocationID.x;
   if (i >= s.target.z) return;
@@ -126,32 +160,5 @@ void main() {
   uint add = (uint(color.r * kSplatScale + 0.5) << 16) | uint(color.g * kSplatScale + 0.5);
   if (add == 0u) return;
   mark(xMajor, first, n, minor, slope);
-#if LAVA_SPLAT_PAIRS
-  for (uint k = 0u; k < n;) {
-    uint major = uint(first) + k;
-    uint across = uint(int(floor(minor)));  // negative wraps to huge: one unsigned test
-    float next = minor + slope;
-    // A steep line's pixel on an even row and its next one below, in the same column: one
-    // word. (The pair lies on the target when its first pixel does: first + n is on it.)
-    bool both = !xMajor && (major & 1u) == 0u && k + 1u < n && uint(int(floor(next))) == across;
-    if (across < minorSize && major < uint(majorSize)) {
-      uvec2 p = xMajor ? uvec2(major, across) : uvec2(across, major);
-      addPixels(splatIndex(p.x, p.y, s.target.x), add, both);
-    }
-    minor = both ? next + slope : next;
-    k += both ? 2u : 1u;
-  }
-#else
-  for (uint k = 0u; k < n; ++k, minor += slope) {
-    uint major = uint(first) + k;
-    uint across = uint(int(floor(minor)));  // negative wraps to huge: one unsigned test
-    if (across < minorSize && major < uint(majorSize)) {
-      uvec2 p = xMajor ? uvec2(major, across) : uvec2(across, major);
-      uint at = splatIndex(p.x, p.y, s.target.x);
-      // A pixel full beyond any tone map is left as it is (what was added taken back): red
-      // stays below 2^16 and green, never more than red in either look, below red.
-      if ((atomicAdd(accumulation[at], add) >> 16) >= kSplatFull) atomicAdd(accumulation[at], -add);
-    }
-  }
-#endif
+  addLine(xMajor, first, n, minor, slope, minorSize, majorSize, add);
 }

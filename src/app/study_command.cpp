@@ -40,65 +40,9 @@ class StudyCommand final : public Command {
       : Command(app, "study", "integrator accuracy and energy for one particle"),
         options_(*command_) {
     options_.addSceneFlags(scene_, device_);
-    options_.add("integrators",
-                 "comma-separated subset of explicit-euler,semi-implicit-euler,velocity-verlet "
-                 "[all three]",
-                 [this](const std::string& src, const std::string& t) {
-                   integrators_.clear();
-                   for (const std::string& name : split(src, t)) {
-                     Scene probe;
-                     try {
-                       setSceneKey(probe, KeyTable::Top, 0, "integrator", name);
-                     } catch (const InvalidArgument& e) {
-                       throw UsageError(src + ": " + e.detail());
-                     }
-                     integrators_.push_back(probe.integrator);
-                   }
-                 });
-    options_.add("dts", "comma-separated step sizes in s, each 1e-5..0.1 [0.0001,...,0.03]",
-                 [this](const std::string& src, const std::string& t) {
-                   dts_.clear();
-                   for (const std::string& item : split(src, t))
-                     dts_.push_back(parseNumber(src, item, 1e-5, 0.1));
-                 });
-    options_.add("seconds", "simulated time T for the energy ratio, (0, 1000] [10]",
-                 [this](const std::string& src, const std::string& t) {
-                   seconds_ = parseNumber(src, t, 0.0, 1000.0, true);
-                 });
-    options_.add(
-        "flow",
-        "instead: the flow against a published solution, on the CPU reference; one of " +
-            std::string(kFlowCases) + " (docs/flow.md); exit 1 outside its tolerance",
-        [this](const std::string& src, const std::string& t) {
-          const std::string cases = std::string(", ") + kFlowCases + ",";
-          if (t.empty() || cases.find(", " + t + ",") == std::string::npos)
-            throw UsageError(src + ": expected one of " + kFlowCases + ", got '" + t + "'");
-          flow_ = t;
-        });
-    options_.add("viscosity",
-                 "--flow: the flow's constant viscosity (m^2/s), [1e-6, 1e4] [the case's]",
-                 [this](const std::string& src, const std::string& t) {
-                   viscosity_ = parseNumber(src, t, 1e-6, 1e4);
-                 });
-    options_.add("solver", "--flow: the flow's method, explicit or implicit [implicit]",
-                 [this](const std::string& src, const std::string& t) {
-                   if (t == "explicit")
-                     solver_ = FlowSolver::Explicit;
-                   else if (t == "implicit")
-                     solver_ = FlowSolver::Implicit;
-                   else
-                     throw UsageError(src + ": expected explicit or implicit, got '" + t + "'");
-                 });
-    options_.add("csv", "also write the table to FILE.csv",
-                 [this](const std::string& src, const std::string& t) {
-                   checkOutputPath(src, t, ".csv");
-                   csv_ = t;
-                 });
-    options_.add("energy-csv", "also write E(t)/E(0) over time, every run, to FILE.csv",
-                 [this](const std::string& src, const std::string& t) {
-                   checkOutputPath(src, t, ".csv");
-                   energyCsv_ = t;
-                 });
+    addTableFlags();
+    addFlowFlags();
+    addOutputFlags();
   }
 
   int run() override {
@@ -134,6 +78,77 @@ class StudyCommand final : public Command {
   }
 
  private:
+  // --integrators, --dts and --seconds: the table's runs (--flow reads the last two too).
+  void addTableFlags() {
+    options_.add("integrators",
+                 "comma-separated subset of explicit-euler,semi-implicit-euler,velocity-verlet "
+                 "[all three]",
+                 [this](const std::string& src, const std::string& t) {
+                   integrators_.clear();
+                   for (const std::string& name : split(src, t)) {
+                     Scene probe;
+                     try {
+                       setSceneKey(probe, KeyTable::Top, 0, "integrator", name);
+                     } catch (const InvalidArgument& e) {
+                       throw UsageError(src + ": " + e.detail());
+                     }
+                     integrators_.push_back(probe.integrator);
+                   }
+                 });
+    options_.add("dts", "comma-separated step sizes in s, each 1e-5..0.1 [0.0001,...,0.03]",
+                 [this](const std::string& src, const std::string& t) {
+                   dts_.clear();
+                   for (const std::string& item : split(src, t))
+                     dts_.push_back(parseNumber(src, item, 1e-5, 0.1));
+                 });
+    options_.add("seconds", "simulated time T for the energy ratio, (0, 1000] [10]",
+                 [this](const std::string& src, const std::string& t) {
+                   seconds_ = parseNumber(src, t, 0.0, 1000.0, true);
+                 });
+  }
+
+  // --flow and the flags only it reads (--viscosity, --solver).
+  void addFlowFlags() {
+    options_.add(
+        "flow",
+        "instead: the flow against a published solution, on the CPU reference; one of " +
+            std::string(kFlowCases) + " (docs/flow.md); exit 1 outside its tolerance",
+        [this](const std::string& src, const std::string& t) {
+          const std::string cases = std::string(", ") + kFlowCases + ",";
+          if (t.empty() || cases.find(", " + t + ",") == std::string::npos)
+            throw UsageError(src + ": expected one of " + kFlowCases + ", got '" + t + "'");
+          flow_ = t;
+        });
+    options_.add("viscosity",
+                 "--flow: the flow's constant viscosity (m^2/s), [1e-6, 1e4] [the case's]",
+                 [this](const std::string& src, const std::string& t) {
+                   viscosity_ = parseNumber(src, t, 1e-6, 1e4);
+                 });
+    options_.add("solver", "--flow: the flow's method, explicit or implicit [implicit]",
+                 [this](const std::string& src, const std::string& t) {
+                   if (t == "explicit")
+                     solver_ = FlowSolver::Explicit;
+                   else if (t == "implicit")
+                     solver_ = FlowSolver::Implicit;
+                   else
+                     throw UsageError(src + ": expected explicit or implicit, got '" + t + "'");
+                 });
+  }
+
+  // --csv and --energy-csv: the files the results also go to.
+  void addOutputFlags() {
+    options_.add("csv", "also write the table to FILE.csv",
+                 [this](const std::string& src, const std::string& t) {
+                   checkOutputPath(src, t, ".csv");
+                   csv_ = t;
+                 });
+    options_.add("energy-csv", "also write E(t)/E(0) over time, every run, to FILE.csv",
+                 [this](const std::string& src, const std::string& t) {
+                   checkOutputPath(src, t, ".csv");
+                   energyCsv_ = t;
+                 });
+  }
+
   static std::vector<std::string> split(const std::string& source, const std::string& text) {
     std::vector<std::string> items;
     std::stringstream stream(text);

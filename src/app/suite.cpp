@@ -182,17 +182,8 @@ std::string caseToml(const toml::table& table) {
   return values + tables;
 }
 
-}  // namespace
-
-std::vector<Case> loadSuite(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw UsageError("--suite: cannot read '" + path + "' (or give 'builtin')");
-  std::stringstream contents;
-  contents << file.rdbuf();
-  return parseSuite(contents.str(), path);
-}
-
-std::vector<Case> parseSuite(const std::string& text, const std::string& path) {
+// The suite file as TOML; a line not valid TOML or holding a character outside ASCII fails.
+toml::table suiteTable(const std::string& text, const std::string& path) {
   toml::table root;
   try {
     root = toml::parse(common::asciiForToml(text), path);
@@ -204,6 +195,77 @@ std::vector<Case> parseSuite(const std::string& text, const std::string& path) {
     throw UsageError("--suite: " + path + ":" + std::to_string(e.source().begin.line) +
                            ": not valid TOML (" + std::string(e.description()) + ")");
   }
+  return root;
+}
+
+// Whether the table's string `key` held a character outside ASCII (now '~', see asciiForToml).
+bool heldNonAscii(const toml::table& table, const std::string& text, const char* key) {
+  const toml::node* node = table.get(key);
+  if (!node || !node->is_string()) return false;
+  const toml::source_region& r = node->source();
+  return common::nonAsciiBetween(text, r.begin.line, r.begin.column, r.end.line, r.end.column);
+}
+
+// A case's keys other than its scene's (name, steps, ...), checked in that order; names
+// gathers the names so far, which no two cases share.
+Case caseMeta(const toml::table& table, const std::string& text, const std::string& at,
+              std::set<std::string>& names) {
+  Case c;
+  const auto name = table["name"].value<std::string>();
+  if (!name || name->empty() || name->find_first_of(",\n\"") != std::string::npos ||
+      heldNonAscii(table, text, "name"))
+    throw UsageError(at + ".name: expected a name of ASCII characters without commas or quotes");
+  c.name = *name;
+  if (!names.insert(c.name).second) throw UsageError(at + ".name: '" + c.name + "' is used twice");
+  const toml::node* steps = table.get("steps");
+  if (!steps) throw UsageError(at + ".steps: required");
+  c.steps = integer(at + ".steps", *steps, 1, 1000000000);
+  if (const toml::node* every = table.get("every"))
+    c.every = integer(at + ".every", *every, 1, 1000000000);
+  if (const toml::node* tolerance = table.get("tolerance-ulp"))
+    c.toleranceUlp = uint32_t(integer(at + ".tolerance-ulp", *tolerance, 0, 0x80000000u));
+  if (const toml::node* serial = table.get("start-serial"))
+    c.startSerial = integer(at + ".start-serial", *serial, 0, uint64_t(INT64_MAX));
+  if (const toml::node* canary = table.get("canary"))
+    c.canary = integer(at + ".canary", *canary, 1, c.steps);
+  return c;
+}
+
+// A case's scene, checked: the file its `scene` key names, or its remaining keys as a scene.
+Scene caseScene(const toml::table& table, const std::string& text, const std::string& path,
+                const std::string& at) {
+  try {
+    Scene scene;
+    if (const toml::node* file = table.get("scene")) {
+      const auto sceneFile = file->value<std::string>();
+      if (!sceneFile || sceneFile->empty() || table.size() != 1 ||
+          heldNonAscii(table, text, "scene"))
+        throw UsageError(at +
+                         ".scene: expected a file name of ASCII characters, and no scene "
+                         "keys beside it");
+      scene = loadScene(sceneFile->front() == '/' ? *sceneFile : folderOf(path) + "/" + *sceneFile);
+    } else {
+      scene = parseScene(caseToml(table), at);
+    }
+    checkScene(scene);
+    return scene;
+  } catch (const InvalidArgument& e) {
+    throw UsageError((e.parameter().rfind(at, 0) == 0 ? "" : at + ": ") + std::string(e.what()));
+  }
+}
+
+}  // namespace
+
+std::vector<Case> loadSuite(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw UsageError("--suite: cannot read '" + path + "' (or give 'builtin')");
+  std::stringstream contents;
+  contents << file.rdbuf();
+  return parseSuite(contents.str(), path);
+}
+
+std::vector<Case> parseSuite(const std::string& text, const std::string& path) {
+  const toml::table root = suiteTable(text, path);
   for (const auto& [key, node] : root)
     if (key.str() != "case")
       throw UsageError("--suite: " + path + ": " + std::string(key.str()) +
@@ -216,52 +278,10 @@ std::vector<Case> parseSuite(const std::string& text, const std::string& path) {
   for (size_t i = 0; i < cases->size(); ++i) {
     toml::table table = *(*cases)[i].as_table();
     const std::string at = path + ": case[" + std::to_string(i) + "]";
-    Case c;
-    // A string that held a character outside ASCII (now '~', see asciiForToml).
-    const auto heldNonAscii = [&](const char* key) {
-      const toml::node* node = table.get(key);
-      if (!node || !node->is_string()) return false;
-      const toml::source_region& r = node->source();
-      return common::nonAsciiBetween(text, r.begin.line, r.begin.column, r.end.line,
-                                     r.end.column);
-    };
-    const auto name = table["name"].value<std::string>();
-    if (!name || name->empty() || name->find_first_of(",\n\"") != std::string::npos ||
-        heldNonAscii("name"))
-      throw UsageError(at + ".name: expected a name of ASCII characters without commas or quotes");
-    c.name = *name;
-    if (!names.insert(c.name).second)
-      throw UsageError(at + ".name: '" + c.name + "' is used twice");
-    const toml::node* steps = table.get("steps");
-    if (!steps) throw UsageError(at + ".steps: required");
-    c.steps = integer(at + ".steps", *steps, 1, 1000000000);
-    if (const toml::node* every = table.get("every"))
-      c.every = integer(at + ".every", *every, 1, 1000000000);
-    if (const toml::node* tolerance = table.get("tolerance-ulp"))
-      c.toleranceUlp = uint32_t(integer(at + ".tolerance-ulp", *tolerance, 0, 0x80000000u));
-    if (const toml::node* serial = table.get("start-serial"))
-      c.startSerial = integer(at + ".start-serial", *serial, 0, uint64_t(INT64_MAX));
-    if (const toml::node* canary = table.get("canary"))
-      c.canary = integer(at + ".canary", *canary, 1, c.steps);
+    Case c = caseMeta(table, text, at, names);
     for (const char* meta : {"name", "steps", "every", "tolerance-ulp", "start-serial", "canary"})
       table.erase(meta);
-    try {
-      if (const toml::node* scene = table.get("scene")) {
-        const auto sceneFile = scene->value<std::string>();
-        if (!sceneFile || sceneFile->empty() || table.size() != 1 || heldNonAscii("scene"))
-          throw UsageError(at +
-                           ".scene: expected a file name of ASCII characters, and no scene "
-                           "keys beside it");
-        c.scene =
-            loadScene(sceneFile->front() == '/' ? *sceneFile : folderOf(path) + "/" + *sceneFile);
-      } else {
-        c.scene = parseScene(caseToml(table), at);
-      }
-      checkScene(c.scene);
-    } catch (const InvalidArgument& e) {
-      throw UsageError((e.parameter().rfind(at, 0) == 0 ? "" : at + ": ") +
-                             std::string(e.what()));
-    }
+    c.scene = caseScene(table, text, path, at);
     out.push_back(std::move(c));
   }
   return out;

@@ -69,6 +69,43 @@ std::string attribute(const std::string& line, const std::string& key) {
   return end == std::string::npos ? "" : line.substr(begin, end - begin);
 }
 
+// The alive particles' point data, slot by slot: what a sample's .vtp lists.
+struct Columns {
+  std::vector<float> points, velocity, speed, age, temperature;
+  std::vector<int32_t> emitter;
+  std::vector<int64_t> slot, offsets;
+  std::vector<uint8_t> crust;
+};
+
+// The columns of the alive particles (age >= 0), each emitter's ring in turn; with `flow`,
+// their temperatures and crust flags too.
+Columns aliveColumns(const Scene& scene, const State& state, bool flow) {
+  Columns c;
+  uint64_t first = 0;  // the slot where the current emitter's ring begins
+  for (size_t e = 0; e < scene.emitters.size(); ++e) {
+    const uint64_t end = first + scene.emitters[e].particles;
+    for (uint64_t i = first; i < end; ++i) {
+      const Particle& p = state.particles[i];
+      if (!(p.age >= 0.0f)) continue;
+      c.points.insert(c.points.end(), {p.px, p.py, p.pz});
+      c.velocity.insert(c.velocity.end(), {p.vx, p.vy, p.vz});
+      // In double, rounded once: numpy gives the same float from the .npy columns.
+      const double vx = p.vx, vy = p.vy, vz = p.vz;
+      c.speed.push_back(float(std::sqrt(vx * vx + vy * vy + vz * vz)));
+      c.age.push_back(p.age);
+      c.emitter.push_back(int32_t(e));
+      c.slot.push_back(int64_t(i));
+      c.offsets.push_back(int64_t(c.slot.size()));
+      if (flow) {
+        c.temperature.push_back(state.temperature[i]);
+        c.crust.push_back(state.crust[i]);
+      }
+    }
+    first = end;
+  }
+  return c;
+}
+
 }  // namespace
 
 uint64_t sceneHash(const Scene& scene) {
@@ -85,33 +122,8 @@ std::string sampleName(uint64_t step) {
 std::string vtpBytes(const Scene& scene, const State& state) {
   checkState(scene, state);
   const bool flow = !state.temperature.empty();
-  std::vector<float> points, velocity, speed, age, temperature;
-  std::vector<int32_t> emitter;
-  std::vector<int64_t> slot, offsets;
-  std::vector<uint8_t> crust;
-  uint64_t first = 0;  // the slot where the current emitter's ring begins
-  for (size_t e = 0; e < scene.emitters.size(); ++e) {
-    const uint64_t end = first + scene.emitters[e].particles;
-    for (uint64_t i = first; i < end; ++i) {
-      const Particle& p = state.particles[i];
-      if (!(p.age >= 0.0f)) continue;
-      points.insert(points.end(), {p.px, p.py, p.pz});
-      velocity.insert(velocity.end(), {p.vx, p.vy, p.vz});
-      // In double, rounded once: numpy gives the same float from the .npy columns.
-      const double vx = p.vx, vy = p.vy, vz = p.vz;
-      speed.push_back(float(std::sqrt(vx * vx + vy * vy + vz * vz)));
-      age.push_back(p.age);
-      emitter.push_back(int32_t(e));
-      slot.push_back(int64_t(i));
-      offsets.push_back(int64_t(slot.size()));
-      if (flow) {
-        temperature.push_back(state.temperature[i]);
-        crust.push_back(state.crust[i]);
-      }
-    }
-    first = end;
-  }
-  const size_t n = age.size();
+  const Columns c = aliveColumns(scene, state, flow);
+  const size_t n = c.age.size();
   std::string xml =
       "<?xml version=\"1.0\"?>\n"
       "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
@@ -130,22 +142,22 @@ std::string vtpBytes(const Scene& scene, const State& state) {
   xml += piece;
   xml += "      <PointData Scalars=\"speed\" Vectors=\"velocity\">\n";
   const char* in = "        ";
-  blocks.array(xml, in, "Float32", "velocity", 3, velocity);
-  blocks.array(xml, in, "Float32", "speed", 1, speed);
-  blocks.array(xml, in, "Float32", "age", 1, age);
-  blocks.array(xml, in, "Int32", "emitter", 1, emitter);
-  blocks.array(xml, in, "Int64", "slot", 1, slot);
+  blocks.array(xml, in, "Float32", "velocity", 3, c.velocity);
+  blocks.array(xml, in, "Float32", "speed", 1, c.speed);
+  blocks.array(xml, in, "Float32", "age", 1, c.age);
+  blocks.array(xml, in, "Int32", "emitter", 1, c.emitter);
+  blocks.array(xml, in, "Int64", "slot", 1, c.slot);
   if (flow) {
-    blocks.array(xml, in, "Float32", "temperature", 1, temperature);
-    blocks.array(xml, in, "UInt8", "crust", 1, crust);
+    blocks.array(xml, in, "Float32", "temperature", 1, c.temperature);
+    blocks.array(xml, in, "UInt8", "crust", 1, c.crust);
   }
   xml += "      </PointData>\n      <Points>\n";
-  blocks.array(xml, in, "Float32", "Points", 3, points);
+  blocks.array(xml, in, "Float32", "Points", 3, c.points);
   xml += "      </Points>\n      <Verts>\n";
   std::vector<int64_t> connectivity(n);  // one vertex a point: 0, 1, 2, ...
   for (size_t i = 0; i < n; ++i) connectivity[i] = int64_t(i);
   blocks.array(xml, in, "Int64", "connectivity", 1, connectivity);
-  blocks.array(xml, in, "Int64", "offsets", 1, offsets);
+  blocks.array(xml, in, "Int64", "offsets", 1, c.offsets);
   xml += "      </Verts>\n    </Piece>\n  </PolyData>\n  <AppendedData encoding=\"raw\">\n   _";
   xml += blocks.data();
   xml += "\n  </AppendedData>\n</VTKFile>\n";

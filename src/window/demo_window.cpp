@@ -376,6 +376,29 @@ class Demo {
     std::printf("demo: saved %s\n", name);
   }
 
+  // The input applied, the panel built and its requests taken.
+  void buildUi() {
+    ImGui_ImplVulkan_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    input_.apply(controls_, camera_);
+    buildPanel();
+    ImGui::Render();
+    applyRequests();
+  }
+
+  // The frame's steps: taken on the CPU, or planned into slot `index` for the device.
+  void simulate(uint32_t index, double frameSeconds) {
+    const uint32_t steps = stepsFor(frameSeconds);
+    if (cpu_) {
+      stepOnCpu(steps);
+    } else {
+      // This slot's previous frame has finished: its schedule may be planned over.
+      simulation_->update(index, steps);
+    }
+    simulatedSeconds_ += double(steps) * double(scene_.h());
+  }
+
   // One frame: simulate, draw, present; `lastOfRun`: the last of a run of --frames N. False when
   // nothing could be drawn (minimised).
   bool drawFrame(double frameSeconds, bool lastOfRun) {
@@ -404,21 +427,8 @@ class Demo {
       return false;
     }
 
-    ImGui_ImplVulkan_NewFrame();
-    ImGui_ImplGlfw_NewFrame();
-    ImGui::NewFrame();
-    input_.apply(controls_, camera_);
-    buildPanel();
-    ImGui::Render();
-    applyRequests();
-    const uint32_t steps = stepsFor(frameSeconds);
-    if (cpu_) {
-      stepOnCpu(steps);
-    } else {
-      // This slot's previous frame has finished: its schedule may be planned over.
-      simulation_->update(index, steps);
-    }
-    simulatedSeconds_ += double(steps) * double(scene_.h());
+    buildUi();
+    simulate(index, frameSeconds);
 
     VK_CHECK(vkResetFences(device, 1, &fence));
     VkCommandBuffer commands = slot.commands;

@@ -247,16 +247,9 @@ void FlowStepper::killNonFinite(State& state) const {
   }
 }
 
-void FlowStepper::step(State& state) {
-  if (!flowSlots_.empty()) return implicitStep(state);
-  killNonFinite(state);
-  sort(state);
-  const Scene& s = reference_.scene();
-  const float h = s.h();
-  std::vector<Particle>& particles = state.particles;
+void FlowStepper::explicitRates(const State& state) {
   const std::vector<float>& temperature = state.temperature;
   const std::vector<uint8_t>& crust = state.crust;
-
   for (uint32_t i : sorted_) viscosity_[i] = flowViscosity(k_, temperature[i]);
   // Pass 1: the density ratio theta, the exchange rates of viscosity and conduction, and
   // whether a solid particle touches crust.
@@ -283,7 +276,14 @@ void FlowStepper::step(State& state) {
     conductive_[i] = stable(k_.conduction * conductive);
     touches_[i] = touches;
   });
+}
 
+void FlowStepper::explicitMove(const State& state) {
+  const Scene& s = reference_.scene();
+  const float h = s.h();
+  const std::vector<Particle>& particles = state.particles;
+  const std::vector<float>& temperature = state.temperature;
+  const std::vector<uint8_t>& crust = state.crust;
   // Pass 2 and the step: every particle reads the start-of-step state of the others.
   next_.resize(sorted_.size());
   parallel(sorted_.size(), [&](size_t e) {
@@ -336,6 +336,15 @@ void FlowStepper::step(State& state) {
            becomesCrust);
     next_[e] = {{x.x, x.y, x.z, age, v.x, v.y, v.z, p.mass}, t1, uint8_t(becomesCrust ? 1 : 0)};
   });
+}
+
+void FlowStepper::step(State& state) {
+  if (!flowSlots_.empty()) return implicitStep(state);
+  killNonFinite(state);
+  sort(state);
+  explicitRates(state);
+  explicitMove(state);
+  std::vector<Particle>& particles = state.particles;
   for (size_t e = 0; e < sorted_.size(); ++e) {
     const uint32_t i = sorted_[e];
     particles[i] = next_[e].particle;

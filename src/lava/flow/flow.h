@@ -116,6 +116,10 @@ class FlowStepper {
  private:
   void killNonFinite(State& state) const;
   void sort(const State& state);
+  // The explicit flow's two passes (docs/model.md): the density ratios and exchange rates,
+  // then the forces and each particle's move into next_, from the start-of-step state.
+  void explicitRates(const State& state);
+  void explicitMove(const State& state);
   // The implicit flow (cpu_implicit.cpp): substeps of a fraction of the step each.
   void implicitStep(State& state);
   void substep(State& state, float fraction, uint32_t substeps);

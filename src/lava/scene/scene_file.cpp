@@ -106,9 +106,8 @@ void readFlow(Scene& scene, const std::string& file, const toml::table& root) {
   }
 }
 
-}  // namespace
-
-Scene parseScene(const std::string& text, const std::string& file, const OtherKey& other) {
+// The file's TOML, or an InvalidArgument at the line and column where it stops being TOML.
+toml::table parseToml(const std::string& text, const std::string& file) {
   toml::table root;
   try {
     root = toml::parse(common::asciiForToml(text), file);
@@ -119,7 +118,12 @@ Scene parseScene(const std::string& text, const std::string& file, const OtherKe
       throw InvalidArgument(file, at + ": a character outside ASCII (only comments may hold one)");
     throw InvalidArgument(file, at + ": not valid TOML (" + std::string(e.description()) + ")");
   }
-  Scene scene;
+  return root;
+}
+
+// Reads the [[emitter]], [[force]] and [[collider]] tables; true when the file has emitter
+// tables (so the flat files' emitter-0 keys may not be used).
+bool readListTables(Scene& scene, const std::string& file, const toml::table& root) {
   const char* tables[] = {"emitter", "force", "collider"};  // [flow] is read last
   const uint32_t most[] = {kMaxEmitters, kMaxForces, kMaxColliders};
   const KeyTable kinds[] = {KeyTable::Emitter, KeyTable::Force, KeyTable::Collider};
@@ -149,7 +153,13 @@ Scene parseScene(const std::string& text, const std::string& file, const OtherKe
     }
     readTables(scene, file, tables[t], kinds[t], *array);
   }
+  return emitterTables;
+}
 
+// Reads the top-level keys (format, the scene's own, format 1's emitter-0 ones), in file
+// order; a key Lava does not know goes to `other`, if given, before it is an error.
+void readTopKeys(Scene& scene, const std::string& file, const toml::table& root,
+                 bool emitterTables, const OtherKey& other) {
   for (const auto& [key, node] : root) {
     const std::string name(key.str()), parameter = file + ": " + name;
     if ((name == "emitter" && emitterTables) || name == "force" || name == "collider" ||
@@ -171,6 +181,15 @@ Scene parseScene(const std::string& text, const std::string& file, const OtherKe
       throw InvalidArgument(parameter, "set it in an [[emitter]] table (this file has them)");
     def->set(scene, 0, parameter, keyText(parameter, node, def->key.kind));
   }
+}
+
+}  // namespace
+
+Scene parseScene(const std::string& text, const std::string& file, const OtherKey& other) {
+  const toml::table root = parseToml(text, file);
+  Scene scene;
+  const bool emitterTables = readListTables(scene, file, root);
+  readTopKeys(scene, file, root, emitterTables, other);
   readFlow(scene, file, root);
   return scene;
 }

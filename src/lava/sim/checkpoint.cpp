@@ -89,56 +89,58 @@ struct Member {
   std::string data;
 };
 
-std::string zip(const std::vector<Member>& members) {
-  std::string out, central;
-  for (const Member& m : members) {
-    const uint64_t offset = out.size();
-    const uint32_t crc = crc32(m.data);
-    const uint64_t size = m.data.size();
-    put<uint32_t>(out, kLocalSignature);
-    put<uint16_t>(out, kVersion);
-    put<uint16_t>(out, 0);  // flags
-    put<uint16_t>(out, 0);  // stored
-    put<uint16_t>(out, 0);  // time
-    put<uint16_t>(out, 0x21);  // date: 1980-01-01
-    put<uint32_t>(out, crc);
-    put<uint32_t>(out, 0xFFFFFFFFu);  // sizes in the ZIP64 extra field
-    put<uint32_t>(out, 0xFFFFFFFFu);
-    put<uint16_t>(out, static_cast<uint16_t>(m.name.size()));
-    put<uint16_t>(out, 20);  // extra: id, size, two 8-byte sizes
-    out += m.name;
-    put<uint16_t>(out, kZip64Extra);
-    put<uint16_t>(out, 16);
-    put<uint64_t>(out, size);
-    put<uint64_t>(out, size);
-    out += m.data;
+// A member's local header (sizes in its ZIP64 extra field) followed by its data.
+void putLocal(std::string& out, const Member& m, uint32_t crc) {
+  const uint64_t size = m.data.size();
+  put<uint32_t>(out, kLocalSignature);
+  put<uint16_t>(out, kVersion);
+  put<uint16_t>(out, 0);  // flags
+  put<uint16_t>(out, 0);  // stored
+  put<uint16_t>(out, 0);  // time
+  put<uint16_t>(out, 0x21);  // date: 1980-01-01
+  put<uint32_t>(out, crc);
+  put<uint32_t>(out, 0xFFFFFFFFu);  // sizes in the ZIP64 extra field
+  put<uint32_t>(out, 0xFFFFFFFFu);
+  put<uint16_t>(out, static_cast<uint16_t>(m.name.size()));
+  put<uint16_t>(out, 20);  // extra: id, size, two 8-byte sizes
+  out += m.name;
+  put<uint16_t>(out, kZip64Extra);
+  put<uint16_t>(out, 16);
+  put<uint64_t>(out, size);
+  put<uint64_t>(out, size);
+  out += m.data;
+}
 
-    put<uint32_t>(central, kCentralSignature);
-    put<uint16_t>(central, kVersion);  // made by
-    put<uint16_t>(central, kVersion);  // needed
-    put<uint16_t>(central, 0);
-    put<uint16_t>(central, 0);
-    put<uint16_t>(central, 0);
-    put<uint16_t>(central, 0x21);
-    put<uint32_t>(central, crc);
-    put<uint32_t>(central, 0xFFFFFFFFu);
-    put<uint32_t>(central, 0xFFFFFFFFu);
-    put<uint16_t>(central, static_cast<uint16_t>(m.name.size()));
-    put<uint16_t>(central, 28);  // extra: id, size, sizes and the local header's offset
-    put<uint16_t>(central, 0);   // comment
-    put<uint16_t>(central, 0);   // disk
-    put<uint16_t>(central, 0);   // internal attributes
-    put<uint32_t>(central, 0);   // external attributes
-    put<uint32_t>(central, 0xFFFFFFFFu);  // offset in the extra field
-    central += m.name;
-    put<uint16_t>(central, kZip64Extra);
-    put<uint16_t>(central, 24);
-    put<uint64_t>(central, size);
-    put<uint64_t>(central, size);
-    put<uint64_t>(central, offset);
-  }
-  const uint64_t centralOffset = out.size();
-  out += central;
+// A member's central directory entry, pointing at its local header at `offset`.
+void putCentral(std::string& central, const Member& m, uint32_t crc, uint64_t offset) {
+  const uint64_t size = m.data.size();
+  put<uint32_t>(central, kCentralSignature);
+  put<uint16_t>(central, kVersion);  // made by
+  put<uint16_t>(central, kVersion);  // needed
+  put<uint16_t>(central, 0);
+  put<uint16_t>(central, 0);
+  put<uint16_t>(central, 0);
+  put<uint16_t>(central, 0x21);
+  put<uint32_t>(central, crc);
+  put<uint32_t>(central, 0xFFFFFFFFu);
+  put<uint32_t>(central, 0xFFFFFFFFu);
+  put<uint16_t>(central, static_cast<uint16_t>(m.name.size()));
+  put<uint16_t>(central, 28);  // extra: id, size, sizes and the local header's offset
+  put<uint16_t>(central, 0);   // comment
+  put<uint16_t>(central, 0);   // disk
+  put<uint16_t>(central, 0);   // internal attributes
+  put<uint32_t>(central, 0);   // external attributes
+  put<uint32_t>(central, 0xFFFFFFFFu);  // offset in the extra field
+  central += m.name;
+  put<uint16_t>(central, kZip64Extra);
+  put<uint16_t>(central, 24);
+  put<uint64_t>(central, size);
+  put<uint64_t>(central, size);
+  put<uint64_t>(central, offset);
+}
+
+// The ZIP64 end record, its locator and the classic end record (every field in the ZIP64 one).
+void putEnd(std::string& out, uint64_t count, uint64_t centralSize, uint64_t centralOffset) {
   const uint64_t end64Offset = out.size();
   put<uint32_t>(out, kEnd64Signature);
   put<uint64_t>(out, 44);  // the record's size after this field
@@ -146,9 +148,9 @@ std::string zip(const std::vector<Member>& members) {
   put<uint16_t>(out, kVersion);
   put<uint32_t>(out, 0);  // this disk
   put<uint32_t>(out, 0);  // the central directory's disk
-  put<uint64_t>(out, members.size());
-  put<uint64_t>(out, members.size());
-  put<uint64_t>(out, central.size());
+  put<uint64_t>(out, count);
+  put<uint64_t>(out, count);
+  put<uint64_t>(out, centralSize);
   put<uint64_t>(out, centralOffset);
   put<uint32_t>(out, kLocatorSignature);
   put<uint32_t>(out, 0);
@@ -162,6 +164,19 @@ std::string zip(const std::vector<Member>& members) {
   put<uint32_t>(out, 0xFFFFFFFFu);
   put<uint32_t>(out, 0xFFFFFFFFu);
   put<uint16_t>(out, 0);  // comment
+}
+
+std::string zip(const std::vector<Member>& members) {
+  std::string out, central;
+  for (const Member& m : members) {
+    const uint64_t offset = out.size();
+    const uint32_t crc = crc32(m.data);
+    putLocal(out, m, crc);
+    putCentral(central, m, crc, offset);
+  }
+  const uint64_t centralOffset = out.size();
+  out += central;
+  putEnd(out, members.size(), central.size(), centralOffset);
   return out;
 }
 
@@ -290,6 +305,101 @@ uint64_t leadingDimension(const Reader& r, const std::map<std::string, std::stri
   return n;
 }
 
+// A checkpoint's arrays, each read after checking its header's type and shape.
+struct Arrays {
+  std::string format, sceneText, step, clock, particles, hash, checksum;
+  std::string temperature, crust, pressure;  // empty without a flow, an implicit flow
+  uint64_t emitters = 0, slots = 0;
+  bool flow = false, implicit = false;
+};
+
+// The format array, once it names the one format this Lava reads.
+std::string formatOf(const Reader& r, const std::map<std::string, std::string>& members) {
+  const std::string format = npyData(r, members, "format", "'<u4'", "(1,)");
+  uint32_t version = 0;
+  std::memcpy(&version, format.data(), std::min<size_t>(4, format.size()));
+  if (format.size() != 4) r.fail("not a checkpoint (a broken format array)");
+  if (version != kCheckpointFormat)
+    r.fail("checkpoint format " + std::to_string(version) + "; this Lava reads format " +
+           std::to_string(kCheckpointFormat));
+  return format;
+}
+
+// Every array, in the order their failures are reported (format first, the flow's last).
+Arrays arraysOf(const Reader& r, const std::map<std::string, std::string>& members) {
+  Arrays a;
+  a.format = formatOf(r, members);
+  a.sceneText =
+      npyData(r, members, "scene", "'|u1'", shapeOf(leadingDimension(r, members, "scene")));
+  a.step = npyData(r, members, "step", "'<u8'", "()");
+  a.emitters = leadingDimension(r, members, "clock");
+  a.clock = npyData(r, members, "clock", kClockDescr, shapeOf(a.emitters));
+  a.slots = leadingDimension(r, members, "particles");
+  a.particles = npyData(r, members, "particles", "'<f4'", shapeOf(a.slots, 8));
+  a.hash = npyData(r, members, "hash", "'<u8'", "(1,)");
+  a.checksum = npyData(r, members, "checksum", "'<u8'", "(1,)");
+  // A flow's arrays, when the file has them (its scene then has a flow: checked later).
+  a.flow = members.count("temperature.npy") != 0 || members.count("crust.npy") != 0;
+  if (a.flow) {
+    a.temperature = npyData(r, members, "temperature", "'<f4'", shapeOf(a.slots));
+    a.crust = npyData(r, members, "crust", "'|u1'", shapeOf(a.slots));
+  }
+  a.implicit = members.count("pressure.npy") != 0;  // an implicit flow's pressures
+  if (a.implicit) a.pressure = npyData(r, members, "pressure", "'<f4'", shapeOf(a.slots));
+  return a;
+}
+
+// Fails unless every array holds what its shape says and the checksum matches them all.
+void checkArrays(const Reader& r, const Arrays& a) {
+  if (a.step.size() != 8 || a.clock.size() != a.emitters * 20 ||
+      a.particles.size() != a.slots * 32 || a.hash.size() != 8 || a.checksum.size() != 8 ||
+      (a.flow && (a.temperature.size() != a.slots * 4 || a.crust.size() != a.slots)) ||
+      (a.implicit && a.pressure.size() != a.slots * 4))
+    r.fail("truncated (an array is shorter than its shape)");
+  uint64_t sum = common::kFnvOffset, expected = 0;
+  for (const std::string* part : std::initializer_list<const std::string*>{
+           &a.format, &a.sceneText, &a.step, &a.clock, &a.particles, &a.temperature, &a.crust,
+           &a.pressure})
+    sum = common::fnv1a(sum, part->data(), part->size());
+  std::memcpy(&expected, a.checksum.data(), 8);
+  if (compareSums && sum != expected)
+    r.fail("checksum mismatch (the file is corrupt or was edited)");
+}
+
+// The checkpoint's scene, parsed and checked, or a failure naming the checkpoint.
+Scene sceneOf(const Reader& r, const std::string& sceneText) {
+  try {
+    Scene scene = parseScene(sceneText, r.name() + " (its scene)");
+    checkScene(scene);  // how its keys bound each other, too
+    return scene;
+  } catch (const InvalidArgument& e) {
+    r.fail(std::string("its scene does not load: ") + e.what());
+  }
+}
+
+// Fills `state` from the arrays, whose lengths checkArrays has checked.
+void readState(const Arrays& a, const std::string& name, State& state) {
+  state.step = Reader(a.step, name).get<uint64_t>(0);
+  state.clocks.resize(a.emitters);
+  const Reader c(a.clock, name);
+  for (uint64_t k = 0; k < a.emitters; ++k) {
+    const uint64_t bits = c.get<uint64_t>(20 * k);
+    std::memcpy(&state.clocks[k].accumulator, &bits, 8);
+    state.clocks[k].serial = c.get<uint64_t>(20 * k + 8);
+    state.clocks[k].head = c.get<uint32_t>(20 * k + 16);
+  }
+  state.particles.resize(a.slots);
+  if (!a.particles.empty())
+    std::memcpy(state.particles.data(), a.particles.data(), a.particles.size());
+  state.temperature.resize(a.temperature.size() / 4);
+  if (!a.temperature.empty())
+    std::memcpy(state.temperature.data(), a.temperature.data(), a.temperature.size());
+  state.crust.assign(a.crust.begin(), a.crust.end());
+  state.pressure.resize(a.pressure.size() / 4);
+  if (!a.pressure.empty())
+    std::memcpy(state.pressure.data(), a.pressure.data(), a.pressure.size());
+}
+
 }  // namespace
 
 void compareCheckpointSums(bool compare) {
@@ -345,72 +455,13 @@ void writeCheckpoint(const std::string& path, const Scene& scene, const State& s
 Snapshot parseCheckpoint(const std::string& bytes, const std::string& name) {
   const Reader r(bytes, name);
   const auto members = r.members();
-  const std::string format = npyData(r, members, "format", "'<u4'", "(1,)");
-  uint32_t version = 0;
-  std::memcpy(&version, format.data(), std::min<size_t>(4, format.size()));
-  if (format.size() != 4) r.fail("not a checkpoint (a broken format array)");
-  if (version != kCheckpointFormat)
-    r.fail("checkpoint format " + std::to_string(version) + "; this Lava reads format " +
-           std::to_string(kCheckpointFormat));
-  const std::string sceneText =
-      npyData(r, members, "scene", "'|u1'", shapeOf(leadingDimension(r, members, "scene")));
-  const std::string step = npyData(r, members, "step", "'<u8'", "()");
-  const uint64_t emitters = leadingDimension(r, members, "clock");
-  const std::string clock = npyData(r, members, "clock", kClockDescr, shapeOf(emitters));
-  const uint64_t slots = leadingDimension(r, members, "particles");
-  const std::string particles = npyData(r, members, "particles", "'<f4'", shapeOf(slots, 8));
-  const std::string hash = npyData(r, members, "hash", "'<u8'", "(1,)");
-  const std::string checksum = npyData(r, members, "checksum", "'<u8'", "(1,)");
-  // A flow's arrays, when the file has them (its scene then has a flow: checked below).
-  const bool flow = members.count("temperature.npy") != 0 || members.count("crust.npy") != 0;
-  const std::string temperature =
-      flow ? npyData(r, members, "temperature", "'<f4'", shapeOf(slots)) : std::string();
-  const std::string crust =
-      flow ? npyData(r, members, "crust", "'|u1'", shapeOf(slots)) : std::string();
-  const bool implicit = members.count("pressure.npy") != 0;  // an implicit flow's pressures
-  const std::string pressure =
-      implicit ? npyData(r, members, "pressure", "'<f4'", shapeOf(slots)) : std::string();
-  if (step.size() != 8 || clock.size() != emitters * 20 || particles.size() != slots * 32 ||
-      hash.size() != 8 || checksum.size() != 8 ||
-      (flow && (temperature.size() != slots * 4 || crust.size() != slots)) ||
-      (implicit && pressure.size() != slots * 4))
-    r.fail("truncated (an array is shorter than its shape)");
-  uint64_t sum = common::kFnvOffset, expected = 0;
-  for (const std::string* part : std::initializer_list<const std::string*>{
-           &format, &sceneText, &step, &clock, &particles, &temperature, &crust, &pressure})
-    sum = common::fnv1a(sum, part->data(), part->size());
-  std::memcpy(&expected, checksum.data(), 8);
-  if (compareSums && sum != expected)
-    r.fail("checksum mismatch (the file is corrupt or was edited)");
-
+  const Arrays a = arraysOf(r, members);
+  checkArrays(r, a);
   Snapshot s;
-  try {
-    s.scene = parseScene(sceneText, name + " (its scene)");
-    checkScene(s.scene);  // how its keys bound each other, too
-  } catch (const InvalidArgument& e) {
-    r.fail(std::string("its scene does not load: ") + e.what());
-  }
-  s.state.step = Reader(step, name).get<uint64_t>(0);
-  s.state.clocks.resize(emitters);
-  const Reader c(clock, name);
-  for (uint64_t k = 0; k < emitters; ++k) {
-    const uint64_t bits = c.get<uint64_t>(20 * k);
-    std::memcpy(&s.state.clocks[k].accumulator, &bits, 8);
-    s.state.clocks[k].serial = c.get<uint64_t>(20 * k + 8);
-    s.state.clocks[k].head = c.get<uint32_t>(20 * k + 16);
-  }
-  s.state.particles.resize(slots);
-  if (!particles.empty())
-    std::memcpy(s.state.particles.data(), particles.data(), particles.size());
-  s.state.temperature.resize(temperature.size() / 4);
-  if (!temperature.empty())
-    std::memcpy(s.state.temperature.data(), temperature.data(), temperature.size());
-  s.state.crust.assign(crust.begin(), crust.end());
-  s.state.pressure.resize(pressure.size() / 4);
-  if (!pressure.empty())
-    std::memcpy(s.state.pressure.data(), pressure.data(), pressure.size());
+  s.scene = sceneOf(r, a.sceneText);
+  readState(a, name, s.state);
   uint64_t stored = 0;
-  std::memcpy(&stored, hash.data(), 8);
+  std::memcpy(&stored, a.hash.data(), 8);
   if (stateHash(s.state.particles) != stored) r.fail("state hash mismatch (the file is corrupt)");
   try {
     checkState(s.scene, s.state);

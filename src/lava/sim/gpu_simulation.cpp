@@ -164,6 +164,9 @@ struct GpuSimulation::Impl {
   // compile it).
   StepPipelines pipelinesFor(const Scene& scene, bool onlyBirths = false);
   void plan(const Scene& scene, uint32_t slot, uint32_t steps);
+  uint32_t stepsInDispatch(const ScheduleSlot& slot, uint32_t done) const;
+  void bindChunk(VkCommandBuffer commands, const Scene& scene, ScheduleSlot& slot,
+                 const ParticleChunk& chunk) const;
   // Records the steps planned into `slot` and marks them recorded.
   void record(const Scene& scene, VkCommandBuffer commands, uint32_t slot);
   void runBlocking(const Scene& scene, uint64_t steps, const detail::TimestampPair* timer,
@@ -374,6 +377,37 @@ void GpuSimulation::Impl::plan(const Scene& scene, uint32_t index, uint32_t step
   slot.sceneParams.flush();
 }
 
+// As many of the slot's steps from `done` as one dispatch may take: at most
+// stepsPerDispatch, and fewer than 2^31 births of each emitter (the shader's 32-bit sums).
+uint32_t GpuSimulation::Impl::stepsInDispatch(const ScheduleSlot& slot, uint32_t done) const {
+  const auto fits = [&slot](uint32_t from, uint32_t to) {
+    for (const std::vector<uint64_t>& births : slot.births)
+      if (births[to] - births[from] >= (uint64_t{1} << 31)) return false;
+    return true;
+  };
+  uint32_t steps = 1;
+  while (done + steps < slot.planned && steps < options.stepsPerDispatch &&
+         fits(done, done + steps + 1))
+    ++steps;
+  return steps;
+}
+
+// The step's descriptors for one chunk: its particles (as storage and as texels), the
+// slot's schedule and scene.
+void GpuSimulation::Impl::bindChunk(VkCommandBuffer commands, const Scene& scene,
+                                    ScheduleSlot& slot, const ParticleChunk& chunk) const {
+  const VkDeviceSize scheduleBytes = scene.emitters.size() * slot.capacity * sizeof(gpu::EmitEntry);
+  detail::Descriptors()
+      .buffer(gpu::kParticleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, chunk.buffer, 0,
+              chunk.count * kParticleBytes)
+      .buffer(gpu::kScheduleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, slot.schedule.get(), 0,
+              scheduleBytes)
+      .texels(gpu::kParticleTexelBinding, chunk.texels)
+      .buffer(gpu::kSceneBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, slot.sceneParams.get(), 0,
+              sizeof(gpu::SceneParams))
+      .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout, setLayout, slot.sets);
+}
+
 void GpuSimulation::Impl::record(const Scene& scene, VkCommandBuffer commands, uint32_t index) {
   ScheduleSlot& slot = this->slot(index);
   if (slot.planned == 0) return;
@@ -381,18 +415,8 @@ void GpuSimulation::Impl::record(const Scene& scene, VkCommandBuffer commands, u
   VkPipeline bound = VK_NULL_HANDLE;
   gpu::StepParams params{};
   params.run.z = slot.capacity;
-  const VkDeviceSize scheduleBytes = scene.emitters.size() * slot.capacity * sizeof(gpu::EmitEntry);
-  // Fewer than 2^31 births of each emitter in one dispatch (the shader's 32-bit sums).
-  const auto fits = [&slot](uint32_t from, uint32_t to) {
-    for (const std::vector<uint64_t>& births : slot.births)
-      if (births[to] - births[from] >= (uint64_t{1} << 31)) return false;
-    return true;
-  };
   for (uint32_t done = 0, steps = 0; done < slot.planned; done += steps) {
-    steps = 1;
-    while (done + steps < slot.planned && steps < options.stepsPerDispatch &&
-           fits(done, done + steps + 1))
-      ++steps;
+    steps = stepsInDispatch(slot, done);
     // RAW/WAW: an earlier dispatch or upload wrote the particles this one reads and writes;
     // WAR: a draw, splat, or read-back copy read them.
     beforeCompute(c, commands);
@@ -400,15 +424,7 @@ void GpuSimulation::Impl::record(const Scene& scene, VkCommandBuffer commands, u
     params.run.y = steps;
     for (const ParticleChunk& chunk : chunks) {
       params.chunk = {static_cast<uint32_t>(chunk.first), chunk.count, 0u, 0u};
-      detail::Descriptors()
-          .buffer(gpu::kParticleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, chunk.buffer, 0,
-                  chunk.count * kParticleBytes)
-          .buffer(gpu::kScheduleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, slot.schedule.get(), 0,
-                  scheduleBytes)
-          .texels(gpu::kParticleTexelBinding, chunk.texels)
-          .buffer(gpu::kSceneBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, slot.sceneParams.get(), 0,
-                  sizeof(gpu::SceneParams))
-          .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout, setLayout, slot.sets);
+      bindChunk(commands, scene, slot, chunk);
       const uint64_t invocations =
           (uint64_t{chunk.count} + gpu::kParticlesPerInvocation - 1) / gpu::kParticlesPerInvocation;
       const uint32_t groups = detail::groupCount(invocations, gpu::kWorkgroupSize);
