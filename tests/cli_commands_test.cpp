@@ -154,32 +154,37 @@ TEST(Demo, TheCpuStepsTheImplicitFlowAndSaysSo) {
       << r.out;
 }
 
+// Runs `lava bench <args> --json <scratch/name>`: its result, and the JSON it wrote.
+std::pair<Result, std::string> benchJson(const std::string& args, const std::string& name) {
+  const std::string json = scratch(name);
+  const Result r = lava("bench " + args + " --json " + json);
+  return {r, readFile(json)};
+}
+
+// Expects `text` to hold each of `keys`.
+void expectKeys(const std::string& text, std::initializer_list<const char*> keys) {
+  for (const char* key : keys) EXPECT_NE(text.find(key), std::string::npos) << key << "\n" << text;
+}
+
 TEST(Bench, WritesTheJsonItPromises) {
-  const std::string json = scratch("bench.json");
-  const Result r = lava("bench --sizes 4096,8192 --steps 20 --json " + json);
+  const auto [r, text] = benchJson("--sizes 4096,8192 --steps 20", "bench.json");
   ASSERT_EQ(r.status, 0) << r.err;
-  const std::string text = readFile(json);
-  for (const char* key :
-       {"\"device\"", "\"results\"", "\"backend\": \"gpu\"", "\"backend\": \"cpu\"",
-        "\"backend\": \"cpu-mt\"", "\"backend\": \"cpu-simd\"", "\"backend\": \"cpu-simd-mt\"",
-        "\"particles\": 8192", "\"steps\": 20", "\"updates_per_second\"",
-        "\"bytes_per_update\": 64", "\"roofline_fraction\"", "\"compute_fraction\"",
-        "\"bound\": \"compute\""})
-    EXPECT_NE(text.find(key), std::string::npos) << key << "\n" << text;
+  expectKeys(text, {"\"device\"", "\"results\"", "\"backend\": \"gpu\"", "\"backend\": \"cpu\"",
+                    "\"backend\": \"cpu-mt\"", "\"backend\": \"cpu-simd\"",
+                    "\"backend\": \"cpu-simd-mt\"", "\"particles\": 8192", "\"steps\": 20",
+                    "\"updates_per_second\"", "\"bytes_per_update\": 64", "\"roofline_fraction\"",
+                    "\"compute_fraction\"", "\"bound\": \"compute\""});
   EXPECT_EQ(std::count(text.begin(), text.end(), '{'), 11) << text;  // 2 sizes x 5 backends
   EXPECT_NE(r.out.find("x compute"), std::string::npos) << r.out;
 }
 
 TEST(Bench, FlowRowsHaveTheirPairsAndCeiling) {
-  const std::string json = scratch("bench-flow.json");
-  const Result r = lava("bench --flow --sizes 600 --steps 3 --json " + json);
+  const auto [r, text] = benchJson("--flow --sizes 600 --steps 3", "bench-flow.json");
   ASSERT_EQ(r.status, 0) << r.err;
-  const std::string text = readFile(json);
-  for (const char* key :
-       {"\"flow\"", "\"backend\": \"gpu\"", "\"backend\": \"cpu\"", "\"backend\": \"cpu-mt\"",
-        "\"particles\": 600", "\"particle_steps_per_second\"", "\"pairs_per_second\"",
-        "\"ceiling_pairs_per_second\"", "\"real_time_factor\""})
-    EXPECT_NE(text.find(key), std::string::npos) << key << "\n" << text;
+  expectKeys(text,
+             {"\"flow\"", "\"backend\": \"gpu\"", "\"backend\": \"cpu\"", "\"backend\": \"cpu-mt\"",
+              "\"particles\": 600", "\"particle_steps_per_second\"", "\"pairs_per_second\"",
+              "\"ceiling_pairs_per_second\"", "\"real_time_factor\""});
   // The slab's particles have tens of neighbours each (the rest lattice within the radius).
   for (const char* backend : {"\ngpu ", "\ncpu ", "\ncpu-mt "}) {
     const size_t at = r.out.find(backend);

@@ -1,9 +1,36 @@
 // Interrupted and concurrent runs: Ctrl-C and SIGTERM write the checkpoint or nothing, two
 // writers of one file leave one whole output, the progress line on a terminal.
+#include <string>
+#include <vector>
+
 #include "cli_test.h"
 
 namespace {
 using namespace cli;
+
+// A child process running build/lava with `args`, its `stream` (stdout or stderr) written to
+// `path`: its id, or -1 when it could not be started.
+pid_t startLava(FILE* stream, const std::string& path, const std::vector<std::string>& args) {
+  // Made before the fork: the child only reopens its stream and runs the program.
+  std::vector<char*> argv{const_cast<char*>(LAVA_EXE)};
+  for (const std::string& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
+  argv.push_back(nullptr);
+  const pid_t child = fork();
+  if (child == 0) {
+    freopen(path.c_str(), "w", stream);
+    execv(LAVA_EXE, argv.data());
+    _exit(127);
+  }
+  return child;
+}
+
+// Sends Ctrl-C's SIGINT to `child` and waits for it: its wait status.
+int interrupt(pid_t child) {
+  kill(child, SIGINT);
+  int raw = 0;
+  waitpid(child, &raw, 0);
+  return raw;
+}
 
 TEST(Checkpoint, SigintWritesItAndTheResumedRunMatchesTheUninterruptedOne) {
   // A long run on the CPU, interrupted mid-way: exit 130 saying after how many steps, the
@@ -11,21 +38,15 @@ TEST(Checkpoint, SigintWritesItAndTheResumedRunMatchesTheUninterruptedOne) {
   // took those steps in one go.
   const std::string ck = scratch("interrupted.npz"), log = scratch("interrupted.log");
   std::remove(ck.c_str());
-  const pid_t child = fork();
+  const pid_t child = startLava(
+      stdout, log,
+      {"simulate", "--particles", "20000", "--rate", "5000", "--backend", "cpu", "--threads", "1",
+       "--steps", "1000000", "--checkpoint", ck, "--checkpoint-every", "1000"});
   ASSERT_GE(child, 0);
-  if (child == 0) {
-    freopen(log.c_str(), "w", stdout);
-    execl(LAVA_EXE, LAVA_EXE, "simulate", "--particles", "20000", "--rate", "5000", "--backend",
-          "cpu", "--threads", "1", "--steps", "1000000", "--checkpoint", ck.c_str(),
-          "--checkpoint-every", "1000", static_cast<char*>(nullptr));
-    _exit(127);
-  }
   // The first periodic checkpoint says the run is under way (its handlers installed).
   for (int i = 0; i < 600 && access(ck.c_str(), F_OK) != 0; ++i) usleep(50 * 1000);
   usleep(300 * 1000);
-  kill(child, SIGINT);
-  int raw = 0;
-  waitpid(child, &raw, 0);
+  const int raw = interrupt(child);
   ASSERT_TRUE(WIFEXITED(raw)) << "killed by signal " << WTERMSIG(raw);
   EXPECT_EQ(WEXITSTATUS(raw), 130);
   const std::string out = readFile(log);
@@ -48,19 +69,12 @@ TEST(Simulate, CtrlCSaysSoAndExits130LeavingNoFile) {
   // Without --checkpoint: one line, exit 130, and the --out file not half written.
   const std::string out = scratch("interrupted.npy"), err = scratch("ctrlc.err");
   std::remove(out.c_str());
-  const pid_t child = fork();
+  const pid_t child = startLava(stderr, err,
+                                {"simulate", "--particles", "20000", "--backend", "cpu",
+                                 "--threads", "1", "--steps", "1000000", "--out", out});
   ASSERT_GE(child, 0);
-  if (child == 0) {
-    freopen(err.c_str(), "w", stderr);
-    execl(LAVA_EXE, LAVA_EXE, "simulate", "--particles", "20000", "--backend", "cpu",
-          "--threads", "1", "--steps", "1000000", "--out", out.c_str(),
-          static_cast<char*>(nullptr));
-    _exit(127);
-  }
   usleep(800 * 1000);
-  kill(child, SIGINT);
-  int raw = 0;
-  waitpid(child, &raw, 0);
+  const int raw = interrupt(child);
   ASSERT_TRUE(WIFEXITED(raw));
   EXPECT_EQ(WEXITSTATUS(raw), 130);
   EXPECT_NE(readFile(err).find("lava: interrupted"), std::string::npos);

@@ -163,15 +163,10 @@ TEST(Forces, VortexTurnsAroundItsAxis) {
 
 // A fountain falling onto `collider` for 3 s.
 State rainOn(const Collider& collider) {
-  Scene s;
-  Emitter& e = s.emitters[0];
-  e.particles = 6000;
-  e.rate = 2000.0;
-  e.shape = Shape::Sphere;
-  e.radius = 0.3f;
-  e.position = {0.0f, 3.0f, 0.0f};
-  e.velocity = {0.0f, 1.0f, 0.0f};
-  e.spread = {1.0f, 1.0f, 1.0f};
+  Scene s = test::oneEmitter(6000, Shape::Sphere, {0.0f, 3.0f, 0.0f}, {0.0f, 1.0f, 0.0f},
+                             {1.0f, 1.0f, 1.0f});
+  s.emitters[0].rate = 2000.0;
+  s.emitters[0].radius = 0.3f;
   s.colliders = {collider};
   CpuSimulation sim(s, 2);
   sim.advance(3000);
@@ -213,12 +208,7 @@ TEST(Colliders, NothingEndsAStepInsideABox) {
 }
 
 TEST(Colliders, NothingEndsAStepInsideTheCone) {
-  Collider c;
-  c.type = ColliderType::Cone;
-  c.position = {0.0f, 0.0f, 0.0f};
-  c.baseRadius = 1.5f;
-  c.topRadius = 0.3f;
-  c.height = 1.2f;
+  Collider c = test::cone(1.5f, 0.3f, 1.2f);
   c.friction = 0.95f;
   size_t onSlope = 0;
   for (const Particle& p : rainOn(c).particles) {

@@ -15,6 +15,7 @@
 
 #include <glm/glm.hpp>
 
+#include "common/passes.h"
 #include "host/frame_renderer.h"
 #include "lava/camera.h"
 #include "host/offscreen.h"
@@ -433,29 +434,22 @@ TEST(EmbeddingRenderPass, DrawsWhatDynamicRenderingDraws) {
   VkRenderPass passes[2];
   VkFramebuffer framebuffers[2];
   for (int load = 0; load < 2; ++load) {
-    VkAttachmentDescription a[2]{};
-    a[0].format = kColor;
-    a[0].samples = VK_SAMPLE_COUNT_1_BIT;
-    a[0].loadOp = load ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;
-    a[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    a[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-    a[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    a[0].initialLayout = a[0].finalLayout = kColorLayout;
-    a[1] = a[0];
-    a[1].format = kDepth;
-    a[1].storeOp = load ? VK_ATTACHMENT_STORE_OP_NONE : VK_ATTACHMENT_STORE_OP_STORE;
-    a[1].initialLayout = a[1].finalLayout = load ? kRead : kWrite;
-    const VkAttachmentReference color{0, kColorLayout}, depth{1, a[1].initialLayout};
+    const VkAttachmentLoadOp loadOp =
+        load ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;
+    const VkImageLayout depthLayout = load ? kRead : kWrite;
+    const VkAttachmentDescription a[2] = {
+        common::attachment(kColor, loadOp, VK_ATTACHMENT_STORE_OP_STORE, kColorLayout,
+                           kColorLayout),
+        common::attachment(kDepth, loadOp,
+                           load ? VK_ATTACHMENT_STORE_OP_NONE : VK_ATTACHMENT_STORE_OP_STORE,
+                           depthLayout, depthLayout)};
+    const VkAttachmentReference color{0, kColorLayout}, depth{1, depthLayout};
     VkSubpassDescription subpass{};
     subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
     subpass.colorAttachmentCount = 1;
     subpass.pColorAttachments = &color;
     subpass.pDepthStencilAttachment = &depth;
-    VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-    info.attachmentCount = 2;
-    info.pAttachments = a;
-    info.subpassCount = 1;
-    info.pSubpasses = &subpass;
+    const VkRenderPassCreateInfo info = common::onePassInfo(a, 2, subpass, nullptr, 0);
     ASSERT_EQ(vkCreateRenderPass(vk, &info, nullptr, &passes[load]), VK_SUCCESS);
     const VkImageView views[2] = {images[0].view, images[1].view};
     VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
@@ -505,24 +499,8 @@ TEST(EmbeddingRenderPass, DrawsWhatDynamicRenderingDraws) {
         vkCmdBeginRenderPass(cmd, &info, VK_SUBPASS_CONTENTS_INLINE);
         return;
       }
-      VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-      color.imageView = images[0].view;
-      color.imageLayout = kColorLayout;
-      color.loadOp = load ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;
-      color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-      color.clearValue.color = {{0.01f, 0.01f, 0.02f, 1.0f}};
-      VkRenderingAttachmentInfo depth = color;
-      depth.imageView = images[1].view;
-      depth.imageLayout = load ? kRead : kWrite;
-      depth.storeOp = load ? VK_ATTACHMENT_STORE_OP_NONE : VK_ATTACHMENT_STORE_OP_STORE;
-      depth.clearValue.depthStencil = {1.0f, 0};
-      VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
-      info.renderArea = {{0, 0}, extent};
-      info.layerCount = 1;
-      info.colorAttachmentCount = 1;
-      info.pColorAttachments = &color;
-      info.pDepthAttachment = &depth;
-      vkCmdBeginRendering(cmd, &info);
+      common::beginFramePass(vkCmdBeginRendering, cmd, images[0].view, images[1].view, extent,
+                             load, {{0.01f, 0.01f, 0.02f, 1.0f}}, kWrite);
     };
     const auto end = [&](VkCommandBuffer cmd) {
       if (renderPasses)
@@ -704,15 +682,9 @@ TEST(EmbeddingFeatures, RequirementsAskTheDeviceAndEnabledFeaturesAreChecked) {
 // A host's render pass like Dear ImGui's: one colour attachment, cleared, no depth; left in
 // TRANSFER_SRC_OPTIMAL for the host's read-back.
 VkRenderPass colourOnlyPass(VkDevice vk, VkFormat format) {
-  VkAttachmentDescription a{};
-  a.format = format;
-  a.samples = VK_SAMPLE_COUNT_1_BIT;
-  a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-  a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-  a.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-  a.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-  a.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  a.finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+  const VkAttachmentDescription a =
+      common::attachment(format, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_STORE,
+                         VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
   const VkAttachmentReference color{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
   VkSubpassDescription subpass{};
   subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
@@ -734,13 +706,7 @@ VkRenderPass colourOnlyPass(VkDevice vk, VkFormat format) {
   after.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
   after.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
   const VkSubpassDependency dependencies[2] = {dependency, after};
-  VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-  info.attachmentCount = 1;
-  info.pAttachments = &a;
-  info.subpassCount = 1;
-  info.pSubpasses = &subpass;
-  info.dependencyCount = 2;
-  info.pDependencies = dependencies;
+  const VkRenderPassCreateInfo info = common::onePassInfo(&a, 1, subpass, dependencies, 2);
   VkRenderPass pass = VK_NULL_HANDLE;
   EXPECT_EQ(vkCreateRenderPass(vk, &info, nullptr, &pass), VK_SUCCESS);
   return pass;

@@ -14,30 +14,33 @@
 #include "lava/scene.h"
 #include "lava/simulation.h"
 #include "scene/keys.h"
+#include "test_scenes.h"
 
 namespace lava::test {
 
 using MakeSimulation = std::function<std::unique_ptr<Simulation>(const Scene&)>;
 
+// A scene of the default flow and one flow emitter of `n` slots, all born in one burst at
+// step 0 from `shape` at `position`: at rest, or scattered by `spread` (m/s).
+inline Scene flowBurst(uint32_t n, Shape shape, Vec3 position, Vec3 spread = {}) {
+  Scene s = oneEmitter(n, shape, position, {0.0f, 0.0f, 0.0f}, spread);
+  s.flow.emplace();
+  Emitter& e = s.emitters[0];
+  e.rate = 0.0;
+  e.burst = n;
+  e.flow = true;
+  e.mass = detail::defaultFlowMass(*s.flow);
+  return s;
+}
+
 // A pool of `n` flow particles released at rest from a box above the ground at `x`, with
 // no cooling unless a test asks for it.
 inline Scene poolScene(uint32_t n, float x = 0.0f) {
-  Scene s;
-  s.flow.emplace();
+  const float side = 0.5f * std::cbrt(float(n) * 2.7e-5f);  // n particles spaced 3 cm
+  Scene s = flowBurst(n, Shape::Box, {x, side + 0.01f, 0.0f});
   s.flow->coolingAir = 0.0f;
   s.flow->coolingGround = 0.0f;
-  Emitter& e = s.emitters[0];
-  e.particles = n;
-  e.rate = 0.0;
-  e.burst = n;
-  e.shape = Shape::Box;
-  const float side = 0.5f * std::cbrt(float(n) * 2.7e-5f);  // n particles spaced 3 cm
-  e.size = {side, side, side};
-  e.position = {x, side + 0.01f, 0.0f};
-  e.velocity = {0.0f, 0.0f, 0.0f};
-  e.spread = {0.0f, 0.0f, 0.0f};
-  e.flow = true;
-  e.mass = detail::defaultFlowMass(*s.flow);
+  s.emitters[0].size = {side, side, side};
   return s;
 }
 

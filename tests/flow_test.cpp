@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "lava/scene.h"
 #include "lava/simulation.h"
 #include "scene/keys.h"
+#include "expect_throw.h"
 #include "flow_pool.h"
 #include "flow/flow.h"
 #include "sim/reference.h"
@@ -27,6 +29,47 @@ using test::poolScene;
 
 std::unique_ptr<Simulation> cpuReference(const Scene& s) {
   return std::make_unique<CpuSimulation>(s, 1);
+}
+
+// The states of `s` after `steps` steps on one, two and three threads.
+std::array<State, 3> onOneTwoAndThreeThreads(const Scene& s, uint64_t steps) {
+  CpuSimulation one(s, 1), two(s, 2), three(s, 3);
+  for (CpuSimulation* sim : {&one, &two, &three}) sim->advance(steps);
+  return {one.state(), two.state(), three.state()};
+}
+
+// The states of `s` with 500 sparks beside its flow after `steps` steps of the scalar kernel
+// on one thread and of the SIMD kernel on two.
+std::pair<State, State> scalarAndSimd(Scene s, uint64_t steps) {
+  s.emitters.push_back(Emitter{});
+  s.emitters[1].particles = 500;
+  CpuSimulation scalar(s, 1), simd(s, 2, CpuKernel::Simd);
+  scalar.advance(steps);
+  simd.advance(steps);
+  return {scalar.state(), simd.state()};
+}
+
+// A run of `s` straight through 2 * `half` steps on one thread, and one stopped after `half`
+// (its state `stopped`), written to a checkpoint and read back (`saved`), then resumed on two
+// threads for the other `half`.
+struct Resumed {
+  State straight, stopped, saved, resumed;
+};
+Resumed resumedHalfway(const Scene& s, uint64_t half) {
+  Resumed r;
+  CpuSimulation straight(s, 1);
+  straight.advance(2 * half);
+  r.straight = straight.state();
+  CpuSimulation first(s, 1);
+  first.advance(half);
+  r.stopped = first.state();
+  const Snapshot saved = parseCheckpoint(checkpointBytes(s, r.stopped), "test");
+  r.saved = saved.state;
+  CpuSimulation second(saved.scene, 2);
+  second.setState(saved.state);
+  second.advance(half);
+  r.resumed = second.state();
+  return r;
 }
 
 TEST(FlowKeys, TheTableAndTheEmitterKeysReadBack) {
@@ -234,15 +277,8 @@ TEST(FlowState, TheTemperatureColumnHoldsFlowParticlesOnly) {
 TEST(FlowState, ACheckpointResumesTheFlowBitForBit) {
   Scene s = poolScene(300);
   s.flow->coolingAir = 5.0f;  // crust forms within the run
-  CpuSimulation straight(s, 1);
-  straight.advance(400);
-  CpuSimulation first(s, 1);
-  first.advance(200);
-  const Snapshot saved = parseCheckpoint(checkpointBytes(s, first.state()), "test");
-  CpuSimulation second(saved.scene, 2);
-  second.setState(saved.state);
-  second.advance(200);
-  const State a = straight.state(), b = second.state();
+  const Resumed r = resumedHalfway(s, 200);
+  const State &a = r.straight, &b = r.resumed;
   EXPECT_EQ(0, std::memcmp(a.particles.data(), b.particles.data(),
                            a.particles.size() * sizeof(Particle)));
   EXPECT_EQ(a.temperature, b.temperature);
@@ -251,22 +287,14 @@ TEST(FlowState, ACheckpointResumesTheFlowBitForBit) {
 
 TEST(FlowState, ThreadCountsGiveTheSameBytes) {
   const Scene s = poolScene(3000);  // past the size at which the flow's passes split
-  CpuSimulation one(s, 1), two(s, 2), three(s, 3);
-  for (CpuSimulation* sim : {&one, &two, &three}) sim->advance(150);
-  const State a = one.state(), b = two.state(), c = three.state();
+  const auto [a, b, c] = onOneTwoAndThreeThreads(s, 150);
   EXPECT_EQ(stateHash(a.particles), stateHash(b.particles));
   EXPECT_EQ(stateHash(a.particles), stateHash(c.particles));
   EXPECT_EQ(a.temperature, c.temperature);
 }
 
 TEST(FlowState, TheSimdKernelGivesTheReferenceBytes) {
-  Scene s = poolScene(300);
-  s.emitters.push_back(Emitter{});
-  s.emitters[1].particles = 500;
-  CpuSimulation scalar(s, 1), simd(s, 2, CpuKernel::Simd);
-  scalar.advance(300);
-  simd.advance(300);
-  const State a = scalar.state(), b = simd.state();
+  const auto [a, b] = scalarAndSimd(poolScene(300), 300);
   EXPECT_EQ(stateHash(a.particles), stateHash(b.particles));
   EXPECT_EQ(a.temperature, b.temperature);
 }
@@ -359,21 +387,13 @@ TEST(FlowImplicit, TheSolverKeyReadsBackAndBadValuesNameIt) {
   EXPECT_EQ(s.flow->solver, FlowSolver::Implicit);
   EXPECT_EQ(parseScene(toToml(s), "again").flow->solver, FlowSolver::Implicit);
   EXPECT_EQ(parseScene("[flow]\n", "t").flow->solver, FlowSolver::Explicit);  // the default
-  try {
-    parseScene("[flow]\nsolver = \"pbf\"\n", "t");
-    ADD_FAILURE() << "accepted";
-  } catch (const InvalidArgument& e) {
-    EXPECT_NE(std::string(e.what()).find("flow.solver: expected one of explicit, implicit"),
-              std::string::npos)
-        << e.what();
-  }
+  test::expectThrowsWith<InvalidArgument>([] { parseScene("[flow]\nsolver = \"pbf\"\n", "t"); },
+                                          "flow.solver: expected one of explicit, implicit");
 }
 
 TEST(FlowImplicit, ThreadCountsGiveTheSameBytes) {
   const Scene s = implicitPool(3000);  // past the size at which the flow's passes split
-  CpuSimulation one(s, 1), two(s, 2), three(s, 3);
-  for (CpuSimulation* sim : {&one, &two, &three}) sim->advance(40);
-  const State a = one.state(), b = two.state(), c = three.state();
+  const auto [a, b, c] = onOneTwoAndThreeThreads(s, 40);
   EXPECT_EQ(stateHash(a), stateHash(b));
   EXPECT_EQ(stateHash(a), stateHash(c));
   EXPECT_NE(a.pressure, std::vector<float>(a.pressure.size(), 0.0f)) << "it is pressed";
@@ -382,16 +402,9 @@ TEST(FlowImplicit, ThreadCountsGiveTheSameBytes) {
 TEST(FlowImplicit, ACheckpointResumesBitForBitPressuresIncluded) {
   Scene s = implicitPool(300);
   s.flow->coolingAir = 5.0f;  // crust forms within the run
-  CpuSimulation straight(s, 1);
-  straight.advance(300);
-  CpuSimulation first(s, 1);
-  first.advance(150);
-  const Snapshot saved = parseCheckpoint(checkpointBytes(s, first.state()), "test");
-  ASSERT_EQ(saved.state.pressure, first.state().pressure);
-  CpuSimulation second(saved.scene, 2);
-  second.setState(saved.state);
-  second.advance(150);
-  EXPECT_EQ(stateHash(straight.state()), stateHash(second.state()));
+  const Resumed r = resumedHalfway(s, 150);
+  ASSERT_EQ(r.saved.pressure, r.stopped.pressure);
+  EXPECT_EQ(stateHash(r.straight), stateHash(r.resumed));
   // An explicit flow's state has no pressures, and its checkpoint none either.
   const State plain = initialState(poolScene(10));
   EXPECT_TRUE(plain.pressure.empty());
@@ -399,13 +412,8 @@ TEST(FlowImplicit, ACheckpointResumesBitForBitPressuresIncluded) {
 }
 
 TEST(FlowImplicit, TheSimdKernelGivesTheReferenceBytes) {
-  Scene s = implicitPool(300);
-  s.emitters.push_back(Emitter{});
-  s.emitters[1].particles = 500;
-  CpuSimulation scalar(s, 1), simd(s, 2, CpuKernel::Simd);
-  scalar.advance(200);
-  simd.advance(200);
-  EXPECT_EQ(stateHash(scalar.state()), stateHash(simd.state()));
+  const auto [scalar, simd] = scalarAndSimd(implicitPool(300), 200);
+  EXPECT_EQ(stateHash(scalar), stateHash(simd));
 }
 
 TEST(FlowImplicit, AHotterPoolRunsFurtherAndNothingEndsInsideASolid) {

@@ -436,12 +436,7 @@ TEST_F(LookTest, CachedBackdropDrawsTheSameImage) {
     FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, LookStyle::Lava);
     renderer.setLineMode(mode);
     const OffscreenTarget target(device(), kSize);
-    const auto drawn = host::renderOffscreen(device(), renderer, simulation, target, camera_);
-    EXPECT_FALSE(renderer.backdropReused());
-    const OffscreenTarget fresh(device(), kSize);
-    const auto copied = host::renderOffscreen(device(), renderer, simulation, fresh, camera_);
-    EXPECT_TRUE(renderer.backdropReused());
-    EXPECT_EQ(drawn, copied);
+    test::expectTheBackdropCached(device(), renderer, simulation, target, camera_);
     // Switching the look redraws the backdrop.
     renderer.setStyle(LookStyle::Plain);
     host::renderOffscreen(device(), renderer, simulation, target, camera_);

@@ -307,15 +307,8 @@ TEST_F(RenderTest, CachedGroundDrawsTheSameImage) {
     FrameRenderer renderer(device(), OffscreenTarget::kColorFormat, LookStyle::Plain);
     renderer.setLineMode(mode);
     const OffscreenTarget target(device(), kSize);
-    const auto drawn = host::renderOffscreen(device(), renderer, simulation, target, camera_);
-    EXPECT_FALSE(renderer.backdropReused());
-    // A fresh target: its colour must come from the copy, the depth tested against from the
-    // cache.
-    const OffscreenTarget fresh(device(), kSize);
-    const auto copied = host::renderOffscreen(device(), renderer, simulation, fresh, camera_);
-    EXPECT_TRUE(renderer.backdropReused());
-    EXPECT_EQ(drawn, copied);
-
+    const auto drawn =
+        test::expectTheBackdropCached(device(), renderer, simulation, target, camera_);
     OrbitCamera turned = camera_;
     turned.yaw += 0.5f;
     const auto turnedDrawn =

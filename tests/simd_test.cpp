@@ -37,20 +37,34 @@ size_t alive(const State& state) {
   return n;
 }
 
+// The reference and the SIMD kernel on one and on two threads, stepped alike.
+struct ReferenceAndSimd {
+  ReferenceAndSimd(const Scene& s, unsigned referenceThreads)
+      : reference(s, referenceThreads), one(s, 1, CpuKernel::Simd), two(s, 2, CpuKernel::Simd) {}
+  // Steps all three `steps` further, the reference first.
+  void advance(uint64_t steps) {
+    reference.advance(steps);
+    one.advance(steps);
+    two.advance(steps);
+  }
+  // Expects both SIMD runs to hold the reference's bytes.
+  void expectTheReferenceBytes() {
+    expectSameBytes(one.state(), reference.state());
+    expectSameBytes(two.state(), reference.state());
+  }
+  CpuSimulation reference, one, two;
+};
+
 class SimdModules : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(SimdModules, GiveTheReferenceBytesOnOneAndTwoThreads) {
   const Scene s = test::moduleScene(GetParam());
-  CpuSimulation reference(s, 2);
-  CpuSimulation one(s, 1, CpuKernel::Simd), two(s, 2, CpuKernel::Simd);
+  ReferenceAndSimd runs(s, 2);
   for (int checkpoint = 0; checkpoint < 3; ++checkpoint) {
-    reference.advance(1000);
-    one.advance(1000);
-    two.advance(1000);
+    runs.advance(1000);
     SCOPED_TRACE(std::string(GetParam()) + ", checkpoint " + std::to_string(checkpoint));
-    expectSameBytes(one.state(), reference.state());
-    expectSameBytes(two.state(), reference.state());
-    EXPECT_GT(alive(reference.state()), 1000u);
+    runs.expectTheReferenceBytes();
+    EXPECT_GT(alive(runs.reference.state()), 1000u);
   }
 }
 
@@ -65,14 +79,10 @@ TEST(Simd, RandomScenesOfEveryModuleGiveTheReferenceBytes) {
     SCOPED_TRACE("scene " + std::to_string(scene) + ": " + std::to_string(s.forces.size()) +
                  " forces, " + std::to_string(s.colliders.size()) + " colliders, " +
                  name(s.integrator));
-    CpuSimulation reference(s, 1);
-    CpuSimulation one(s, 1, CpuKernel::Simd), two(s, 2, CpuKernel::Simd);
+    ReferenceAndSimd runs(s, 1);
     for (int checkpoint = 0; checkpoint < 2; ++checkpoint) {
-      reference.advance(700);
-      one.advance(700);
-      two.advance(700);
-      expectSameBytes(one.state(), reference.state());
-      expectSameBytes(two.state(), reference.state());
+      runs.advance(700);
+      runs.expectTheReferenceBytes();
     }
   }
 }

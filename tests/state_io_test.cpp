@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "common/files.h"
+#include "expect_throw.h"
 #include "host/output.h"
 #include "lava/error.h"
 #include "lava/validation.h"
@@ -111,14 +112,9 @@ TEST(Files, AppearWholeWithTheUmasksPermissionsAndLeaveNoTemporary) {
   EXPECT_EQ(readFile(path), "second");
   std::remove(path.c_str());
 
-  try {
-    common::writeFileAtomically("/no/such/folder/file.txt", "x");
-    ADD_FAILURE() << "a file in a missing folder was written";
-  } catch (const ResourceError& e) {
-    EXPECT_NE(std::string(e.what()).find("cannot write '/no/such/folder/file.txt'"),
-              std::string::npos)
-        << e.what();
-  }
+  test::expectThrowsWith<ResourceError>(
+      [] { common::writeFileAtomically("/no/such/folder/file.txt", "x"); },
+      "cannot write '/no/such/folder/file.txt'", "a file in a missing folder was written");
 }
 
 TEST(Compare, UlpDistance) {

@@ -16,15 +16,34 @@
 
 namespace lava::test {
 
+// A scene of one emitter of `n` slots, born (at the default rate) from `shape` at `position`
+// and launched at `velocity` give or take `spread` in each component (m/s).
+inline Scene oneEmitter(uint32_t n, Shape shape, Vec3 position, Vec3 velocity, Vec3 spread) {
+  Scene s;
+  Emitter& e = s.emitters[0];
+  e.particles = n;
+  e.shape = shape;
+  e.position = position;
+  e.velocity = velocity;
+  e.spread = spread;
+  return s;
+}
+
+// A cone collider standing on the ground at the origin.
+inline Collider cone(float baseRadius, float topRadius, float height) {
+  Collider c;
+  c.type = ColliderType::Cone;
+  c.position = {0.0f, 0.0f, 0.0f};
+  c.baseRadius = baseRadius;
+  c.topRadius = topRadius;
+  c.height = height;
+  return c;
+}
+
 // The volcano's cone at the origin (the look and embedding tests hide lava behind it).
 inline Scene coneScene() {
   Scene scene;
-  Collider cone;
-  cone.type = ColliderType::Cone;
-  cone.baseRadius = 1.6f;
-  cone.topRadius = 0.4f;
-  cone.height = 1.4f;
-  scene.colliders = {cone};
+  scene.colliders = {cone(1.6f, 0.4f, 1.4f)};
   return scene;
 }
 

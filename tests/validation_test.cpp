@@ -45,6 +45,14 @@ Scene smallScene() {
   return s;
 }
 
+// validate() of the reference nudged by `ulps` after step `badStep` against the reference.
+ValidationReport validateNudged(uint64_t badStep, int ulps, uint64_t steps, uint64_t every,
+                                uint32_t toleranceUlp) {
+  Nudged a(smallScene(), badStep, ulps);
+  CpuSimulation b(smallScene());
+  return validate(a, b, steps, every, toleranceUlp);
+}
+
 TEST(Validation, EqualBackendsPassWithNoDivergentStep) {
   CpuSimulation a(smallScene()), b(smallScene());
   const ValidationReport r = validate(a, b, 100, 10, 0);
@@ -56,9 +64,7 @@ TEST(Validation, EqualBackendsPassWithNoDivergentStep) {
 }
 
 TEST(Validation, NamesTheFirstDivergentStepBetweenCheckpoints) {
-  Nudged a(smallScene(), 37, 1);
-  CpuSimulation b(smallScene());
-  const ValidationReport r = validate(a, b, 100, 10, 0);
+  const ValidationReport r = validateNudged(37, 1, 100, 10, 0);
   EXPECT_FALSE(r.pass);
   ASSERT_TRUE(r.firstDivergentStep);
   EXPECT_EQ(*r.firstDivergentStep, 37u);
@@ -74,21 +80,15 @@ TEST(Validation, NamesTheFirstDivergentStepBetweenCheckpoints) {
 }
 
 TEST(Validation, ToleranceAcceptsSmallDifferencesButStillReportsThem) {
-  Nudged a(smallScene(), 5, 1);
-  CpuSimulation b(smallScene());
-  const ValidationReport within = validate(a, b, 6, 6, 1000);
+  const ValidationReport within = validateNudged(5, 1, 6, 6, 1000);
   EXPECT_TRUE(within.pass);
   ASSERT_TRUE(within.firstDivergentStep);
   EXPECT_EQ(*within.firstDivergentStep, 5u);
-  Nudged c(smallScene(), 5, 1);
-  CpuSimulation d(smallScene());
-  EXPECT_FALSE(validate(c, d, 6, 6, 0).pass);
+  EXPECT_FALSE(validateNudged(5, 1, 6, 6, 0).pass);
 }
 
 TEST(Validation, DivergenceAtTheVeryFirstStep) {
-  Nudged a(smallScene(), 1, 4);
-  CpuSimulation b(smallScene());
-  const ValidationReport r = validate(a, b, 50, 25, 0);
+  const ValidationReport r = validateNudged(1, 4, 50, 25, 0);
   ASSERT_TRUE(r.firstDivergentStep);
   EXPECT_EQ(*r.firstDivergentStep, 1u);
 }

@@ -1,5 +1,6 @@
 // A fixture for tests that touch Vulkan: a device with the validation layer and its
-// synchronization validation on; any message the layer reports fails the test.
+// synchronization validation on; any message the layer reports fails the test. And a check
+// the renderers' tests share: the cached backdrop.
 #pragma once
 #include <gtest/gtest.h>
 
@@ -7,7 +8,10 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
+#include "host/frame_renderer.h"
+#include "host/offscreen.h"
 #include "host/vulkan.h"
 #include "lava/device.h"
 
@@ -37,5 +41,24 @@ class VulkanTest : public ::testing::Test {
  private:
   std::unique_ptr<Device> device_;
 };
+
+// The frame `renderer` draws of `simulation` into `target`, its backdrop drawn anew, once a
+// second frame into a fresh target of the same size was expected to copy the cached
+// backdrop and to look exactly the same.
+inline std::vector<uint8_t> expectTheBackdropCached(const Device& device,
+                                                    host::FrameRenderer& renderer,
+                                                    const GpuSimulation& simulation,
+                                                    const host::OffscreenTarget& target,
+                                                    const OrbitCamera& camera) {
+  const auto drawn = host::renderOffscreen(device, renderer, simulation, target, camera);
+  EXPECT_FALSE(renderer.backdropReused());
+  // A fresh target: its colour must come from the copy, the depth tested against from the
+  // cache.
+  const host::OffscreenTarget fresh(device, target.extent());
+  const auto copied = host::renderOffscreen(device, renderer, simulation, fresh, camera);
+  EXPECT_TRUE(renderer.backdropReused());
+  EXPECT_EQ(drawn, copied);
+  return drawn;
+}
 
 }  // namespace lava::test

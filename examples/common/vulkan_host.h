@@ -40,6 +40,16 @@ inline uint32_t memoryType(VkPhysicalDevice physical, uint32_t bits, VkMemoryPro
   throw std::runtime_error("no suitable memory type");
 }
 
+// Memory for what `needs` describes, of a type with `wanted`.
+inline VkDeviceMemory allocate(const lava::DeviceHandles& host, const VkMemoryRequirements& needs,
+                               VkMemoryPropertyFlags wanted) {
+  const VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, nullptr, needs.size,
+                                  memoryType(host.physicalDevice, needs.memoryTypeBits, wanted)};
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  check(vkAllocateMemory(host.device, &info, nullptr, &memory), "vkAllocateMemory");
+  return memory;
+}
+
 struct DeviceOptions {
   const char* name = "host";                    // VkApplicationInfo's, and the notes' prefix
   uint32_t apiVersion = VK_API_VERSION_1_3;     // the host's (VkApplicationInfo::apiVersion)
@@ -191,16 +201,11 @@ class Device {
     if (options.optionalFeatures) handles.pushDescriptors = addOffered(needs, extensions);
 
     const float priority = 1.0f;
-    VkDeviceQueueCreateInfo queue{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-    queue.queueFamilyIndex = handles.queueFamily;
-    queue.queueCount = 1;
-    queue.pQueuePriorities = &priority;
-    VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-    info.pNext = &enabled;
-    info.queueCreateInfoCount = 1;
-    info.pQueueCreateInfos = &queue;
-    info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
-    info.ppEnabledExtensionNames = extensions.data();
+    const VkDeviceQueueCreateInfo queue{
+        VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO, nullptr, 0, handles.queueFamily, 1, &priority};
+    const VkDeviceCreateInfo info{
+        VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,     &enabled,          0,      1, &queue, 0, nullptr,
+        static_cast<uint32_t>(extensions.size()), extensions.data(), nullptr};
     check(vkCreateDevice(handles.physicalDevice, &info, nullptr, &handles.device),
           "vkCreateDevice");
     vkGetDeviceQueue(handles.device, handles.queueFamily, 0, &handles.queue);
@@ -243,11 +248,7 @@ class Image {
     check(vkCreateImage(device_, &info, nullptr, &image), "vkCreateImage");
     VkMemoryRequirements needs;
     vkGetImageMemoryRequirements(device_, image, &needs);
-    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    alloc.allocationSize = needs.size;
-    alloc.memoryTypeIndex =
-        memoryType(host.physicalDevice, needs.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    check(vkAllocateMemory(device_, &alloc, nullptr, &memory_), "vkAllocateMemory");
+    memory_ = allocate(host, needs, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
     check(vkBindImageMemory(device_, image, memory_, 0), "vkBindImageMemory");
     VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     viewInfo.image = image;
@@ -283,12 +284,8 @@ class Readback {
     check(vkCreateBuffer(device_, &info, nullptr, &buffer), "vkCreateBuffer");
     VkMemoryRequirements needs;
     vkGetBufferMemoryRequirements(device_, buffer, &needs);
-    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    alloc.allocationSize = needs.size;
-    alloc.memoryTypeIndex =
-        memoryType(host.physicalDevice, needs.memoryTypeBits,
-                   VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-    check(vkAllocateMemory(device_, &alloc, nullptr, &memory_), "vkAllocateMemory");
+    memory_ = allocate(host, needs,
+                       VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
     check(vkBindBufferMemory(device_, buffer, memory_, 0), "vkBindBufferMemory");
   }
   ~Readback() {

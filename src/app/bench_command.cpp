@@ -52,18 +52,14 @@ class BenchCommand final : public Command {
                 "rooflines"),
         options_(*command_) {
     options_.addSceneFlags(scene_, device_);
-    options_.add(
-        "sizes", "comma-separated particle counts [65536,262144,1048576,4194304]",
+    options_.add("sizes", "comma-separated particle counts [65536,262144,1048576,4194304]",
         [this](const std::string& src, const std::string& t) { sizes_ = parseSizes(src, t); });
-    options_.add("steps", "steps timed per size and backend, 1..100000 [200]",
-                 [this](const std::string& src, const std::string& t) {
-                   steps_ = parseInteger(src, t, 1, 100000);
-                 });
-    options_.add("steps-per-dispatch",
-                 "GPU steps fused per dispatch, 1..256 [256]; 1 is the unfused, memory-bound step",
-                 [this](const std::string& src, const std::string& t) {
-                   fused_ = static_cast<uint32_t>(parseInteger(src, t, 1, 256));
-                 });
+    options_.addInteger("steps", "steps timed per size and backend, 1..100000 [200]", steps_, 1,
+                        100000);
+    options_.addInteger(
+        "steps-per-dispatch",
+        "GPU steps fused per dispatch, 1..256 [256]; 1 is the unfused, memory-bound step", fused_,
+        1, 256);
     options_.add("backends", "comma-separated subset of " + std::string(kBackends) + " [all]",
                  [this](const std::string& src, const std::string& t) {
                    backends_ = parseBackends(src, t);
@@ -200,44 +196,7 @@ class BenchCommand final : public Command {
     std::ostringstream json;
     json << "{\n  \"device\": \"" << device << "\",\n  \"flow\": [\n";
     bool first = true;
-    for (uint32_t n : sizes) {
-      const auto [scene, start] = flowSlab(scene_, n, point_);
-      const FlowNeighbours neighbours = flowNeighbours(scene, start);
-      // Both neighbour passes visit every pair, per step.
-      const double pairs = 2.0 * double(neighbours.lists.size());
-      const auto row = [&](const char* backend, double seconds, double ceiling) {
-        const double steps = double(steps_);
-        const double pairsPerSecond = pairs * steps / seconds;
-        // Simulated seconds per wall second: 1 is real time.
-        const double realTime = steps * double(scene_.h()) / seconds;  // the slab's dt
-        std::printf("%-8s %10u %13.4g %9.1f %14.4g %14.4g %9.3f %11.4g\n", backend, n,
-                    double(n) * steps / seconds, pairs / double(n), pairsPerSecond, ceiling,
-                    pairsPerSecond / ceiling, realTime);
-        json << (first ? "" : ",\n") << "    {\"backend\": \"" << backend
-             << "\", \"particles\": " << n
-             << ", \"particle_steps_per_second\": " << double(n) * steps / seconds
-             << ", \"pairs_per_second\": " << pairsPerSecond
-             << ", \"ceiling_pairs_per_second\": " << ceiling
-             << ", \"real_time_factor\": " << realTime << "}";
-        first = false;
-      };
-      if (gpuRow) {
-        GpuSimulation sim(context, scene);
-        sim.setState(start);
-        sim.advance(std::min<uint64_t>(steps_, 16));  // warm-up
-        sim.setState(start);
-        const double seconds = sim.advanceTimed(steps_);
-        row("gpu", seconds, gpuFlowPairsPerSecond(context, scene, neighbours));
-      }
-      for (const auto& [name, threads] :
-           {std::pair<const char*, unsigned>{"cpu", 1u}, {"cpu-mt", cores}}) {
-        if (!wants(name)) continue;
-        CpuSimulation sim(scene, threads);
-        sim.setState(start);
-        const double seconds = secondsOf([&] { sim.advance(steps_); });
-        row(name, seconds, cpuFlowPairsPerSecond(scene, neighbours, threads));
-      }
-    }
+    for (uint32_t n : sizes) benchFlow(context, n, gpuRow, cores, json, first);
     std::printf(
         "pairs/st: neighbour pairs each step visits (both passes, counted at the start); "
         "ceiling: the density sum alone over neighbour lists made beforehand, on the same "
@@ -245,6 +204,47 @@ class BenchCommand final : public Command {
     json << "\n  ]\n}\n";
     if (!json_.empty()) host::writeFileAtomically(json_, json.str());
     return finish(context, 0);
+  }
+
+  // The --flow rows of n particles, printed and appended to json (`first`: no comma before).
+  void benchFlow(Device& context, uint32_t n, bool gpuRow, unsigned cores, std::ostringstream& json,
+                 bool& first) {
+    const auto [scene, start] = flowSlab(scene_, n, point_);
+    const FlowNeighbours neighbours = flowNeighbours(scene, start);
+    // Both neighbour passes visit every pair, per step.
+    const double pairs = 2.0 * double(neighbours.lists.size());
+    const auto row = [&](const char* backend, double seconds, double ceiling) {
+      const double steps = double(steps_);
+      const double pairsPerSecond = pairs * steps / seconds;
+      // Simulated seconds per wall second: 1 is real time.
+      const double realTime = steps * double(scene_.h()) / seconds;  // the slab's dt
+      std::printf("%-8s %10u %13.4g %9.1f %14.4g %14.4g %9.3f %11.4g\n", backend, n,
+                  double(n) * steps / seconds, pairs / double(n), pairsPerSecond, ceiling,
+                  pairsPerSecond / ceiling, realTime);
+      json << (first ? "" : ",\n") << "    {\"backend\": \"" << backend
+           << "\", \"particles\": " << n
+           << ", \"particle_steps_per_second\": " << double(n) * steps / seconds
+           << ", \"pairs_per_second\": " << pairsPerSecond
+           << ", \"ceiling_pairs_per_second\": " << ceiling
+           << ", \"real_time_factor\": " << realTime << "}";
+      first = false;
+    };
+    if (gpuRow) {
+      GpuSimulation sim(context, scene);
+      sim.setState(start);
+      sim.advance(std::min<uint64_t>(steps_, 16));  // warm-up
+      sim.setState(start);
+      const double seconds = sim.advanceTimed(steps_);
+      row("gpu", seconds, gpuFlowPairsPerSecond(context, scene, neighbours));
+    }
+    for (const auto& [name, threads] :
+         {std::pair<const char*, unsigned>{"cpu", 1u}, {"cpu-mt", cores}}) {
+      if (!wants(name)) continue;
+      CpuSimulation sim(scene, threads);
+      sim.setState(start);
+      const double seconds = secondsOf([&] { sim.advance(steps_); });
+      row(name, seconds, cpuFlowPairsPerSecond(scene, neighbours, threads));
+    }
   }
 
   bool wants(const std::string& backend) const {

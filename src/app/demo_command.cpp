@@ -50,12 +50,10 @@ class DemoCommand final : public Command {
     options_.add(
         "size", "window size WxH [1280x720]",
         [this](const std::string& src, const std::string& t) { demo_.size = parseSize(src, t); });
-    options_.add(
+    options_.addInteger(
         "frames",
         "exit after N frames with an average-fps line, 1..10000000 [until closed; 90 headless]",
-        [this](const std::string& src, const std::string& t) {
-          demo_.frames = static_cast<uint32_t>(parseInteger(src, t, 1, 10000000));
-        });
+        demo_.frames, 1, 10000000);
     options_.add(
         "renderer",
         "splat (compute) or lines (the graphics pipeline, the reference) "

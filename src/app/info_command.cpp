@@ -32,10 +32,8 @@ class InfoCommand final : public Command {
   explicit InfoCommand(CLI::App& app)
       : Command(app, "info", "list Vulkan devices and the limits that matter"),
         options_(*command_) {
-    options_.add("device", "device index to describe [best; or LAVA_DEVICE]",
-                 [this](const std::string& src, const std::string& t) {
-                   device_ = static_cast<unsigned>(parseInteger(src, t, 0, 255));
-                 });
+    options_.addInteger("device", "device index to describe [best; or LAVA_DEVICE]", device_, 0,
+                        255);
   }
 
   int run() override {

@@ -97,10 +97,8 @@ void Options::addSceneFlags(Scene& scene, std::optional<unsigned>& device) {
                                                 : "NUM");
     sceneFlags_.emplace_back(key.name, flag);
   }
-  add("device", "Vulkan device index from 'lava info' [best; or LAVA_DEVICE]",
-      [&device](const std::string& src, const std::string& t) {
-        device = static_cast<unsigned>(parseInteger(src, t, 0, 255));
-      });
+  addInteger("device", "Vulkan device index from 'lava info' [best; or LAVA_DEVICE]", device, 0,
+             255);
 }
 
 bool Options::given(const std::string& name) const {
@@ -187,23 +185,18 @@ void addBackendFlags(Options& options, BackendChoice& backend) {
                 backend.gpu = t == "gpu";
                 backend.kernel = t == "cpu-simd" ? CpuKernel::Simd : CpuKernel::Reference;
               });
-  options.add("threads", "CPU backend threads, 0 = all cores, 0..1024 [0]",
-              [&backend](const std::string& src, const std::string& t) {
-                backend.threads = static_cast<unsigned>(parseInteger(src, t, 0, 1024));
-              });
+  options.addInteger("threads", "CPU backend threads, 0 = all cores, 0..1024 [0]", backend.threads,
+                     0, 1024);
 }
 
 void addSeriesFlags(Options& options, std::string& series, uint64_t& every) {
-  options.add("series",
-              "also write the state every --every steps as a VTK time series for ParaView: "
-              "DIR/step_*.vtp and DIR.pvd beside the folder (created if missing)",
-              [&series](const std::string& src, const std::string& t) {
-                series = seriesFolder(src, t);
-              });
-  options.add("every", "with --series: the steps between samples, 1..1e9",
-              [&every](const std::string& src, const std::string& t) {
-                every = parseInteger(src, t, 1, 1000000000);
-              });
+  options.add(
+      "series",
+      "also write the state every --every steps as a VTK time series for ParaView: "
+      "DIR/step_*.vtp and DIR.pvd beside the folder (created if missing)",
+      [&series](const std::string& src, const std::string& t) { series = seriesFolder(src, t); });
+  options.addInteger("every", "with --series: the steps between samples, 1..1e9", every, 1,
+                     1000000000);
 }
 
 void checkSeriesFlags(const std::string& series, uint64_t every) {

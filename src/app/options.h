@@ -49,6 +49,17 @@ class Options {
   explicit Options(CLI::App& command);
   // A command option `--name VALUE`, also the scene-file key `name`.
   void add(const std::string& name, const std::string& help, Apply apply, bool required = false);
+  // A whole number in [lo, hi] (parseInteger's checks and messages), written into `target`.
+  template <typename T>
+  void addInteger(const std::string& name, const std::string& help, T& target, uint64_t lo,
+                  uint64_t hi, bool required = false) {
+    add(
+        name, help,
+        [&target, lo, hi](const std::string& source, const std::string& text) {
+          target = static_cast<T>(parseInteger(source, text, lo, hi));
+        },
+        required);
+  }
   // A boolean `--name`, also `name = true` in a scene file.
   void addFlag(const std::string& name, const std::string& help, bool& value);
   // The scene keys as flags, writing into `scene`, and --device.

@@ -66,12 +66,8 @@ class RenderCommand final : public Command {
       : Command(app, "render", "write PNG frames of the scene (no display needed)"),
         options_(*command_) {
     options_.addSceneFlags(scene_, device_);
-    options_.add(
-        "frames", "frames to write, 1..100000 (required)",
-        [this](const std::string& src, const std::string& t) {
-          plan_.frames = static_cast<uint32_t>(parseInteger(src, t, 1, 100000));
-        },
-        true);
+    options_.addInteger("frames", "frames to write, 1..100000 (required)", plan_.frames, 1, 100000,
+                        true);
     options_.add("fps", "frames per simulated second, (0, 1000] [30]",
                  [this](const std::string& src, const std::string& t) {
                    plan_.fps = parseNumber(src, t, 0, 1000, true);

@@ -33,12 +33,7 @@ class SimulateCommand final : public Command {
       : Command(app, "simulate", "run a scene headless and write its final state"),
         options_(*command_) {
     options_.addSceneFlags(scene_, device_);
-    options_.add(
-        "steps", "steps to run, 0..1e9 (required)",
-        [this](const std::string& src, const std::string& t) {
-          steps_ = parseInteger(src, t, 0, 1000000000);
-        },
-        true);
+    options_.addInteger("steps", "steps to run, 0..1e9 (required)", steps_, 0, 1000000000, true);
     addBackendFlags(options_, backend_);
     options_.add("out", "write the final state to FILE.npy or FILE.csv",
                  [this](const std::string& src, const std::string& t) {
@@ -52,10 +47,9 @@ class SimulateCommand final : public Command {
                    checkOutputPath(src, t, ".npz");
                    checkpoint_ = t;
                  });
-    options_.add("checkpoint-every", "with --checkpoint: also every K steps, 1..1e9 [at the end]",
-                 [this](const std::string& src, const std::string& t) {
-                   every_ = parseInteger(src, t, 1, 1000000000);
-                 });
+    options_.addInteger("checkpoint-every",
+                        "with --checkpoint: also every K steps, 1..1e9 [at the end]", every_, 1,
+                        1000000000);
     addSeriesFlags(options_, series_, seriesEvery_);
     options_.add("resume",
                  "continue the run a checkpoint FILE.npz holds: its scene (scene flags may "
@@ -73,14 +67,7 @@ class SimulateCommand final : public Command {
     checkSeriesFlags(series_, seriesEvery_);
     if (resumed) checkResumedScene(scene_, resumed->scene);
     std::unique_ptr<Device> device;
-    std::unique_ptr<Simulation> simulation;
-    if (backend_.gpu) {
-      device = std::make_unique<Device>(deviceOptions(device_));
-      simulation = std::make_unique<GpuSimulation>(*device, scene_);
-    } else {
-      simulation =
-          std::make_unique<CpuSimulation>(scene_, backend_.cpuThreads(), backend_.kernel);
-    }
+    const std::unique_ptr<Simulation> simulation = makeSimulation(device);
     if (resumed) simulation->setState(resumed->state);
     std::optional<host::SeriesWriter> series;
     if (!series_.empty())
@@ -109,34 +96,47 @@ class SimulateCommand final : public Command {
     const State state = checkpoint_.empty() ? simulation->state() : saveCheckpoint(*simulation);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (!out_.empty()) host::writeState(out_, state);
+    report(state, simulation->name(), seconds, std::chrono::duration<double>(start - begun).count(),
+           series ? &*series : nullptr);
+    return device ? finish(*device, 0) : 0;
+  }
 
+ private:
+  // The simulation --backend names; a GPU one's device goes to `device`.
+  std::unique_ptr<Simulation> makeSimulation(std::unique_ptr<Device>& device) const {
+    if (backend_.gpu) {
+      device = std::make_unique<Device>(deviceOptions(device_));
+      return std::make_unique<GpuSimulation>(*device, scene_);
+    }
+    return std::make_unique<CpuSimulation>(scene_, backend_.cpuThreads(), backend_.kernel);
+  }
+
+  // The finished run's summary: the final state's counts and hash, then the files written.
+  void report(const State& state, const std::string& simulation, double seconds,
+              double setupSeconds, const host::SeriesWriter* series) const {
     uint64_t alive = 0, below = 0;
     for (const Particle& p : state.particles) {
       alive += p.age >= 0.0f;
       below += p.age >= 0.0f && p.py < 0.0f;
     }
-    if (!out_.empty()) host::writeState(out_, state);
     std::printf(
         "simulate: %llu particles x %llu steps on %s in %s (and %s to set up): %llu alive, "
         "%llu below ground, "
         "state hash %016llx%s%s\n",
         static_cast<unsigned long long>(scene_.particles()),
-        static_cast<unsigned long long>(steps_), simulation->name().c_str(),
-        formatSeconds(seconds).c_str(),
-        formatSeconds(std::chrono::duration<double>(start - begun).count()).c_str(),
-        static_cast<unsigned long long>(alive), static_cast<unsigned long long>(below),
-        static_cast<unsigned long long>(stateHash(state)), out_.empty() ? "" : ", wrote ",
-        out_.c_str());
+        static_cast<unsigned long long>(steps_), simulation.c_str(), formatSeconds(seconds).c_str(),
+        formatSeconds(setupSeconds).c_str(), static_cast<unsigned long long>(alive),
+        static_cast<unsigned long long>(below), static_cast<unsigned long long>(stateHash(state)),
+        out_.empty() ? "" : ", wrote ", out_.c_str());
     if (!checkpoint_.empty())
       std::printf("simulate: checkpoint at step %llu in %s\n",
                   static_cast<unsigned long long>(state.step), checkpoint_.c_str());
     if (series)
       std::printf("simulate: series of %zu samples in %s\n", series->samples(),
                   series->collection().c_str());
-    return device ? finish(*device, 0) : 0;
   }
 
- private:
   // --steps steps, or fewer when a signal stops the run at a step boundary; the steps done.
   uint64_t advance(Simulation& simulation, uint64_t first, host::SeriesWriter* series) {
     // Batches of about 2^26 particle-steps (at least one step, at most 4096): a signal is

@@ -32,14 +32,9 @@ class ValidateCommand final : public Command {
   explicit ValidateCommand(CLI::App& app)
       : Command(app, "validate", "compare the GPU against the CPU reference"), options_(*command_) {
     options_.addSceneFlags(scene_, device_);
-    options_.add("steps", "steps to run, 1..1e9 (required without --suite)",
-                 [this](const std::string& src, const std::string& t) {
-                   steps_ = parseInteger(src, t, 1, 1000000000);
-                 });
-    options_.add("every", "compare every K steps, 1..1e9 [steps/10]",
-                 [this](const std::string& src, const std::string& t) {
-                   every_ = parseInteger(src, t, 1, 1000000000);
-                 });
+    options_.addInteger("steps", "steps to run, 1..1e9 (required without --suite)", steps_, 1,
+                        1000000000);
+    options_.addInteger("every", "compare every K steps, 1..1e9 [steps/10]", every_, 1, 1000000000);
     options_.add("tolerance-ulp", "largest accepted ULP distance, 0..2^31 [0]",
                  [this](const std::string& src, const std::string& t) {
                    tolerance_ = static_cast<uint32_t>(parseInteger(src, t, 0, 0x80000000u));

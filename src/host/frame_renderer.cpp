@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "common/passes.h"
 #include "common/steps.h"
 #include "series.h"
 
@@ -94,25 +95,9 @@ FrameRenderer::FrameRenderer(Device& device, VkFormat colorFormat, LookStyle sty
 // as the splat samples it); else the backdrop's pass, cleared.
 void FrameRenderer::beginRendering(VkCommandBuffer commands, VkImageView color, VkImageView depth,
                                    VkExtent2D extent, bool load) const {
-  VkRenderingAttachmentInfo colorAttachment{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-  colorAttachment.imageView = color;
-  colorAttachment.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-  colorAttachment.loadOp = load ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;
-  colorAttachment.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-  colorAttachment.clearValue.color = {{0.012f, 0.010f, 0.018f, 1.0f}};
-  VkRenderingAttachmentInfo depthAttachment = colorAttachment;
-  depthAttachment.imageView = depth;
-  depthAttachment.imageLayout = load ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL
-                                     : VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-  depthAttachment.storeOp = load ? VK_ATTACHMENT_STORE_OP_NONE_KHR : VK_ATTACHMENT_STORE_OP_STORE;
-  depthAttachment.clearValue.depthStencil = {1.0f, 0};
-  VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
-  info.renderArea = {{0, 0}, extent};
-  info.layerCount = 1;
-  info.colorAttachmentCount = 1;
-  info.pColorAttachments = &colorAttachment;
-  info.pDepthAttachment = &depthAttachment;
-  cmdBeginRendering_(commands, &info);
+  common::beginFramePass(cmdBeginRendering_, commands, color, depth, extent, load,
+                         {{0.012f, 0.010f, 0.018f, 1.0f}},
+                         VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
 }
 
 void FrameRenderer::resize(VkExtent2D extent) {

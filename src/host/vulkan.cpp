@@ -31,22 +31,14 @@ OwnedMemory allocate(const Device& device, VkDeviceSize size, uint32_t type, con
   info.memoryTypeIndex = type;
   VkDeviceMemory memory = VK_NULL_HANDLE;
   const VkResult result = vkAllocateMemory(device.handles().device, &info, nullptr, &memory);
-  if (result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY)
-    throw ResourceError("out of memory: vkAllocateMemory of " +
-                        (size >= (VkDeviceSize{1} << 20) ? std::to_string(size >> 20) + " MiB"
-                                                         : std::to_string(size) + " bytes") +
-                        " on the Vulkan device failed with " + resultName(result));
+  common::throwIfOutOfMemory(result, size);
   VK_CHECK(result);
   return OwnedMemory(device.handles().device, memory);
 }
 
 OwnedImageView createView(const Device& device, VkImage image, VkFormat format,
                           VkImageAspectFlags aspect) {
-  VkImageViewCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-  info.image = image;
-  info.viewType = VK_IMAGE_VIEW_TYPE_2D;
-  info.format = format;
-  info.subresourceRange = {aspect, 0, 1, 0, 1};
+  const VkImageViewCreateInfo info = common::viewInfo2D(image, format, aspect);
   VkImageView view = VK_NULL_HANDLE;
   VK_CHECK(vkCreateImageView(device.handles().device, &info, nullptr, &view));
   return OwnedImageView(device.handles().device, view);

@@ -438,36 +438,30 @@ DeviceRequirements deviceRequirements(VkInstance instance, VkPhysicalDevice phys
 
 namespace {
 
+// Whether a structure of `type` (a T) in the chain from `next` has `feature` on: the host
+// may enable a feature through its core structure or its extension's, in any order.
+template <typename T>
+bool chainEnables(const void* next, VkStructureType type, VkBool32 T::*feature) {
+  for (auto* s = static_cast<const VkBaseInStructure*>(next); s; s = s->pNext)
+    if (s->sType == type && reinterpret_cast<const T*>(s)->*feature) return true;
+  return false;
+}
+
 // The features a borrowed device was created with, as the host gave them: what Lava needs
 // must be there (InvalidArgument naming the feature).
 void checkEnabledFeatures(const DeviceHandles& h, uint32_t apiVersion) {
   if (!h.enabledFeatures) return;
-  bool dynamicRendering = false, atomics = false;
-  for (auto* s = static_cast<const VkBaseInStructure*>(h.enabledFeatures->pNext); s; s = s->pNext) {
-    switch (s->sType) {
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES:
-        dynamicRendering =
-            dynamicRendering ||
-            reinterpret_cast<const VkPhysicalDeviceVulkan13Features*>(s)->dynamicRendering;
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DYNAMIC_RENDERING_FEATURES:
-        dynamicRendering =
-            dynamicRendering ||
-            reinterpret_cast<const VkPhysicalDeviceDynamicRenderingFeatures*>(s)->dynamicRendering;
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES:
-        atomics =
-            atomics ||
-            reinterpret_cast<const VkPhysicalDeviceVulkan12Features*>(s)->shaderBufferInt64Atomics;
-        break;
-      case VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES:
-        atomics = atomics || reinterpret_cast<const VkPhysicalDeviceShaderAtomicInt64Features*>(s)
-                                 ->shaderBufferInt64Atomics;
-        break;
-      default:
-        break;
-    }
-  }
+  const void* chain = h.enabledFeatures->pNext;
+  const bool dynamicRendering =
+      chainEnables(chain, VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES,
+                   &VkPhysicalDeviceVulkan13Features::dynamicRendering) ||
+      chainEnables(chain, VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DYNAMIC_RENDERING_FEATURES,
+                   &VkPhysicalDeviceDynamicRenderingFeatures::dynamicRendering);
+  const bool atomics =
+      chainEnables(chain, VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
+                   &VkPhysicalDeviceVulkan12Features::shaderBufferInt64Atomics) ||
+      chainEnables(chain, VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES,
+                   &VkPhysicalDeviceShaderAtomicInt64Features::shaderBufferInt64Atomics);
   if (h.dynamicRendering && !dynamicRendering)
     throw InvalidArgument(
         "enabledFeatures",

@@ -215,22 +215,17 @@ ScenePanel::Change ScenePanel::draw(const Scene& running) {
   changed |= edit("seed", edited_.seed);
   changed |= edit("line scale (s)", edited_.lineScale, 0.001f);
   changed |= choose("integrator", edited_.integrator, 3);
-  if (ImGui::TreeNode("emitters")) {
-    changed |= emitters();
+  // A tree node of the panel: its editor runs while it is open.
+  const auto section = [](const char* title, const auto& editor) {
+    if (!ImGui::TreeNode(title)) return false;
+    const bool edited = editor();
     ImGui::TreePop();
-  }
-  if (ImGui::TreeNode("forces")) {
-    changed |= forces();
-    ImGui::TreePop();
-  }
-  if (ImGui::TreeNode("colliders")) {
-    changed |= colliders();
-    ImGui::TreePop();
-  }
-  if (ImGui::TreeNode("flow")) {
-    changed |= flow();
-    ImGui::TreePop();
-  }
+    return edited;
+  };
+  changed |= section("emitters", [this] { return emitters(); });
+  changed |= section("forces", [this] { return forces(); });
+  changed |= section("colliders", [this] { return colliders(); });
+  changed |= section("flow", [this] { return flow(); });
   char path[512];
   std::snprintf(path, sizeof(path), "%s", path_.c_str());
   if (ImGui::InputText("file", path, sizeof(path))) path_ = path;

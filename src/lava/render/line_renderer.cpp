@@ -17,6 +17,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "common/check.h"
+#include "common/passes.h"
 #include "lava/error.h"
 #include "lava/simulation.h"
 #include "shared.h"
@@ -148,8 +149,23 @@ struct LineRenderer::Impl {
                : d.buffer(binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, accumulation[frame].get());
   }
 
+  // The lines' two pipelines and the rock's, for the host's target.
+  void createDrawPipelines(const RenderFormats& target);
+  // What recordPrepare owes since the last: the no-depth image's layout, the glow lists'
+  // first clears.
+  void recordPending(VkCommandBuffer commands);
+  // The lines through the graphics pipeline, chunk by chunk.
+  void recordLines(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
+                   const View& view) const;
+  // The glow's quads (resolving the splat's sums too, when `splat`).
+  void recordGlowDraw(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
+                      const View& view, bool splat) const;
   // Records slot `frame`'s scene depth (the solids of the simulation's scene, depth only)
   // and returns its view, in DEPTH_STENCIL_READ_ONLY_OPTIMAL and visible to compute reads.
+  // The depth pass, with its pipeline of the solids, made once.
+  void createDepthPass();
+  // Frame slot `frame`'s depth image and framebuffer, made at the first use.
+  SceneDepth& sceneDepth(uint32_t frame);
   VkImageView recordSceneDepth(VkCommandBuffer commands, uint32_t frame,
                                const GpuSimulation& simulation, const View& view);
   // The flow's molten rock under the lines, both renderers alike.
@@ -165,34 +181,37 @@ struct LineRenderer::Impl {
                        const gpu::GlowParams& params, bool resolves) const;
 };
 
+void LineRenderer::Impl::createDrawPipelines(const RenderFormats& target) {
+  lineSet = detail::createSetLayout(c, {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+                                    VK_SHADER_STAGE_VERTEX_BIT);
+  lineLayout = detail::createPipelineLayout(c, lineSet, kDrawStages, sizeof(gpu::DrawParams));
+  detail::GraphicsPipelineDesc lines{LAVA_SPIRV(spirv::kLinesVertSpv),
+                                     LAVA_SPIRV(spirv::kLinesFragSpv), target};
+  lines.topology = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
+  lines.additive = true;
+  lines.depthWrite = false;  // glowing lines do not occlude
+  plainLines = detail::createGraphicsPipeline(c, lineLayout, lines);
+  lines.additive = false;
+  lines.screen = true;
+  lavaLines = detail::createGraphicsPipeline(c, lineLayout, lines);
+
+  rockSet = detail::createSetLayout(
+      c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+      VK_SHADER_STAGE_VERTEX_BIT);
+  rockLayout = detail::createPipelineLayout(c, rockSet, kDrawStages, sizeof(gpu::RockParams));
+  detail::GraphicsPipelineDesc rockDesc{LAVA_SPIRV(spirv::kRockVertSpv),
+                                        LAVA_SPIRV(spirv::kRockFragSpv), target};
+  rockDesc.over = true;
+  rockDesc.depthWrite = false;  // the host's depth may be read-only; the discs are soft anyway
+  rock = detail::createGraphicsPipeline(c, rockLayout, rockDesc);
+}
+
 LineRenderer::LineRenderer(Device& device, const RenderFormats& formats)
     : impl_(std::make_unique<Impl>(device.context(), formats)) {
   Impl& m = *impl_;
   const detail::DeviceContext& c = m.c;
   detail::checkTarget(c, formats);
-  m.lineSet = detail::createSetLayout(c, {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
-                                      VK_SHADER_STAGE_VERTEX_BIT);
-  m.lineLayout = detail::createPipelineLayout(c, m.lineSet, kDrawStages, sizeof(gpu::DrawParams));
-  detail::GraphicsPipelineDesc lines{LAVA_SPIRV(spirv::kLinesVertSpv),
-                                     LAVA_SPIRV(spirv::kLinesFragSpv), formats};
-  lines.topology = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
-  lines.additive = true;
-  lines.depthWrite = false;  // glowing lines do not occlude
-  m.plainLines = detail::createGraphicsPipeline(c, m.lineLayout, lines);
-  lines.additive = false;
-  lines.screen = true;
-  m.lavaLines = detail::createGraphicsPipeline(c, m.lineLayout, lines);
-
-  m.rockSet = detail::createSetLayout(
-      c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-      VK_SHADER_STAGE_VERTEX_BIT);
-  m.rockLayout = detail::createPipelineLayout(c, m.rockSet, kDrawStages, sizeof(gpu::RockParams));
-  detail::GraphicsPipelineDesc rock{LAVA_SPIRV(spirv::kRockVertSpv),
-                                    LAVA_SPIRV(spirv::kRockFragSpv), formats};
-  rock.over = true;
-  rock.depthWrite = false;  // the host's depth may be read-only; the discs are soft anyway
-  m.rock = detail::createGraphicsPipeline(c, m.rockLayout, rock);
-
+  m.createDrawPipelines(formats);
   m.nearest = detail::createSampler(c, VK_FILTER_NEAREST);
   m.splatSet = detail::createSetLayout(
       c,
@@ -256,60 +275,48 @@ bool LineRenderer::sceneDepth() const {
   return impl_->ownDepth;
 }
 
-VkImageView LineRenderer::Impl::recordSceneDepth(VkCommandBuffer commands, uint32_t frame,
-                                                 const GpuSimulation& simulation,
-                                                 const View& view) {
+void LineRenderer::Impl::createDepthPass() {
   constexpr VkFormat kDepth = VK_FORMAT_D32_SFLOAT;
-  if (!depthPass) {
-    // Cleared, written, left for the splat to sample; it waits for the slot's last splat.
-    VkAttachmentDescription a{};
-    a.format = kDepth;
-    a.samples = VK_SAMPLE_COUNT_1_BIT;
-    a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    a.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-    a.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    a.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    a.finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL;
-    const VkAttachmentReference ref{0, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-    VkSubpassDescription subpass{};
-    subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-    subpass.pDepthStencilAttachment = &ref;
-    constexpr VkPipelineStageFlags kTests =
-        VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
-    VkSubpassDependency dependencies[2] = {};
-    dependencies[0] = {
-        VK_SUBPASS_EXTERNAL,
-        0,
-        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-        kTests,
-        0,
-        VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-        0};
-    dependencies[1] = {0,
-                       VK_SUBPASS_EXTERNAL,
-                       kTests,
-                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                       VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-                       VK_ACCESS_SHADER_READ_BIT,
-                       0};
-    VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-    info.attachmentCount = 1;
-    info.pAttachments = &a;
-    info.subpassCount = 1;
-    info.pSubpasses = &subpass;
-    info.dependencyCount = 2;
-    info.pDependencies = dependencies;
-    VkRenderPass pass = VK_NULL_HANDLE;
-    VK_CHECK(c.vk.CreateRenderPass(c.device(), &info, c.allocator(), &pass));
-    depthPass = detail::UniqueRenderPass(c, pass);
-    solidsLayout =
-        detail::createPipelineLayout(c, VK_NULL_HANDLE, kDrawStages, sizeof(gpu::BackdropParams));
-    detail::GraphicsPipelineDesc solids{LAVA_SPIRV(spirv::kGroundVertSpv),
-                                        {nullptr, 0},
-                                        {VK_FORMAT_UNDEFINED, kDepth, depthPass, 0}};
-    solidsDepth = detail::createGraphicsPipeline(c, solidsLayout, solids);
-  }
+  // Cleared, written, left for the splat to sample; it waits for the slot's last splat.
+  const VkAttachmentDescription a = common::attachment(
+      kDepth, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_STORE, VK_IMAGE_LAYOUT_UNDEFINED,
+      VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
+  const VkAttachmentReference ref{0, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+  VkSubpassDescription subpass{};
+  subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  subpass.pDepthStencilAttachment = &ref;
+  constexpr VkPipelineStageFlags kTests =
+      VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+  VkSubpassDependency dependencies[2] = {};
+  dependencies[0] = {
+      VK_SUBPASS_EXTERNAL,
+      0,
+      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+      kTests,
+      0,
+      VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+      0};
+  dependencies[1] = {0,
+                     VK_SUBPASS_EXTERNAL,
+                     kTests,
+                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                     VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                     VK_ACCESS_SHADER_READ_BIT,
+                     0};
+  const VkRenderPassCreateInfo info = common::onePassInfo(&a, 1, subpass, dependencies, 2);
+  VkRenderPass pass = VK_NULL_HANDLE;
+  VK_CHECK(c.vk.CreateRenderPass(c.device(), &info, c.allocator(), &pass));
+  depthPass = detail::UniqueRenderPass(c, pass);
+  solidsLayout =
+      detail::createPipelineLayout(c, VK_NULL_HANDLE, kDrawStages, sizeof(gpu::BackdropParams));
+  detail::GraphicsPipelineDesc solids{LAVA_SPIRV(spirv::kGroundVertSpv),
+                                      {nullptr, 0},
+                                      {VK_FORMAT_UNDEFINED, kDepth, depthPass, 0}};
+  solidsDepth = detail::createGraphicsPipeline(c, solidsLayout, solids);
+}
+
+LineRenderer::Impl::SceneDepth& LineRenderer::Impl::sceneDepth(uint32_t frame) {
+  constexpr VkFormat kDepth = VK_FORMAT_D32_SFLOAT;
   if (sceneDepths.size() <= frame) sceneDepths.resize(frame + 1);
   SceneDepth& d = sceneDepths[frame];
   if (!d.image.image) {
@@ -317,17 +324,20 @@ VkImageView LineRenderer::Impl::recordSceneDepth(VkCommandBuffer commands, uint3
         c, extent, kDepth, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
         VK_IMAGE_ASPECT_DEPTH_BIT);
     const VkImageView attachment = d.image.view;
-    VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-    info.renderPass = depthPass;
-    info.attachmentCount = 1;
-    info.pAttachments = &attachment;
-    info.width = extent.width;
-    info.height = extent.height;
-    info.layers = 1;
+    const VkFramebufferCreateInfo info =
+        common::framebufferInfo(depthPass, &attachment, 1, extent);
     VkFramebuffer framebuffer = VK_NULL_HANDLE;
     VK_CHECK(c.vk.CreateFramebuffer(c.device(), &info, c.allocator(), &framebuffer));
     d.framebuffer = detail::UniqueFramebuffer(c, framebuffer);
   }
+  return d;
+}
+
+VkImageView LineRenderer::Impl::recordSceneDepth(VkCommandBuffer commands, uint32_t frame,
+                                                 const GpuSimulation& simulation,
+                                                 const View& view) {
+  if (!depthPass) createDepthPass();
+  const SceneDepth& d = sceneDepth(frame);
   VkClearValue clear{};
   clear.depthStencil = {1.0f, 0};
   VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
@@ -614,6 +624,26 @@ void LineRenderer::Impl::recordGlowLight(VkCommandBuffer commands, uint32_t fram
   c.vk.CmdDispatch(commands, grid.x / gpu::kGlowTile + 1, grid.y / gpu::kGlowTile + 1, 1);
 }
 
+void LineRenderer::Impl::recordPending(VkCommandBuffer commands) {
+  if (depthPending) {
+    detail::imageBarrier(c, commands, noDepth.image, VK_IMAGE_ASPECT_DEPTH_BIT,
+                         VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL,
+                         VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         VK_ACCESS_SHADER_READ_BIT);
+    depthPending = false;
+  }
+  if (listsPending.empty()) return;
+  for (const uint32_t slot : listsPending)
+    c.vk.CmdFillBuffer(commands, glow[slot].list.get(), 0, 16, 0);
+  // RAW: the glow's draw reads the lists as indirect arguments; WAW: the glow's passes
+  // count into them.
+  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT |
+                            VK_ACCESS_SHADER_WRITE_BIT);
+  listsPending.clear();
+}
+
 void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
                                  const GpuSimulation& simulation, const View& view,
                                  VkImageView depth) {
@@ -622,25 +652,7 @@ void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
   m.used = std::max(m.used, frame + 1);
   m.grow(m.used);
   simulation.recordInit(commands);
-  if (m.depthPending) {
-    detail::imageBarrier(m.c, commands, m.noDepth.image, VK_IMAGE_ASPECT_DEPTH_BIT,
-                         VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL,
-                         VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                         VK_ACCESS_SHADER_READ_BIT);
-    m.depthPending = false;
-  }
-  if (!m.listsPending.empty()) {
-    for (const uint32_t slot : m.listsPending)
-      m.c.vk.CmdFillBuffer(commands, m.glow[slot].list.get(), 0, 16, 0);
-    // RAW: the glow's draw reads the lists as indirect arguments; WAW: the glow's passes
-    // count into them.
-    detail::memoryBarrier(
-        m.c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-        VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-        VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT |
-            VK_ACCESS_SHADER_WRITE_BIT);
-    m.listsPending.clear();
-  }
+  m.recordPending(commands);
   const bool splat = m.mode == LineMode::Splat;
   const bool glow = m.style == LookStyle::Lava && m.settings.bloom > 0.0f;
   if ((splat || glow) &&
@@ -708,23 +720,7 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
   // With the glow on, the glow's quads resolve the sums instead (below), in their own pass:
   // one blend a pixel where two passes would take two.
   if (!splat) {
-    gpu::DrawParams params{};
-    params.viewProj = glm::make_mat4(view.viewProj.m);
-    params.style = detail::lineStyle(simulation.scene(), m.style);
-    params.target = {float(view.extent.width), float(view.extent.height), m.settings.exposure,
-                     kShortestLine};
-    m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
-                           lava ? m.lavaLines : m.plainLines);
-    m.c.vk.CmdPushConstants(commands, m.lineLayout, kDrawStages, 0, sizeof(params), &params);
-    for (const ParticleChunk& chunk : simulation.chunks()) {
-      const std::vector<glm::uvec2> ranges = lineRanges(simulation.scene(), chunk);
-      if (ranges.empty()) continue;
-      detail::Descriptors()
-          .texels(gpu::kParticleBinding, chunk.texels)
-          .bind(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.lineLayout, m.lineSet,
-                m.sets[frame]);
-      for (const glm::uvec2& r : ranges) m.c.vk.CmdDraw(commands, 2 * (r.y - r.x), 1, 2 * r.x, 0);
-    }
+    m.recordLines(commands, frame, simulation, view);
   } else if (!glow) {
     const gpu::SplatParams params = splatParams(simulation, view, m.style, m.settings);
     m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
@@ -738,24 +734,48 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
                             &params);
     m.c.vk.CmdDraw(commands, 6 * m.tiles.x * m.tiles.y, 1, 0, 0);
   }
-  if (!glow) return;
-  const GlowSlot& g = m.glow[frame];
-  const gpu::GlowParams params = glowParams(simulation, view, m.settings, m.grid);
-  m.c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
-                         splat ? m.sized->glowResolve : m.sized->glowDraw);
+  if (glow) m.recordGlowDraw(commands, frame, simulation, view, splat);
+}
+
+void LineRenderer::Impl::recordLines(VkCommandBuffer commands, uint32_t frame,
+                                     const GpuSimulation& simulation, const View& view) const {
+  gpu::DrawParams params{};
+  params.viewProj = glm::make_mat4(view.viewProj.m);
+  params.style = detail::lineStyle(simulation.scene(), style);
+  params.target = {float(view.extent.width), float(view.extent.height), settings.exposure,
+                   kShortestLine};
+  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
+                       style == LookStyle::Lava ? lavaLines : plainLines);
+  c.vk.CmdPushConstants(commands, lineLayout, kDrawStages, 0, sizeof(params), &params);
+  for (const ParticleChunk& chunk : simulation.chunks()) {
+    const std::vector<glm::uvec2> ranges = lineRanges(simulation.scene(), chunk);
+    if (ranges.empty()) continue;
+    detail::Descriptors()
+        .texels(gpu::kParticleBinding, chunk.texels)
+        .bind(c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, lineLayout, lineSet, sets[frame]);
+    for (const glm::uvec2& r : ranges) c.vk.CmdDraw(commands, 2 * (r.y - r.x), 1, 2 * r.x, 0);
+  }
+}
+
+void LineRenderer::Impl::recordGlowDraw(VkCommandBuffer commands, uint32_t frame,
+                                        const GpuSimulation& simulation, const View& view,
+                                        bool splat) const {
+  const GlowSlot& g = glow[frame];
+  const gpu::GlowParams params = glowParams(simulation, view, settings, grid);
+  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
+                       splat ? sized->glowResolve : sized->glowDraw);
   detail::Descriptors descriptors;
   descriptors.buffer(gpu::kGlowDrawListBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, g.list.get());
-  if (m.sized->cellsAsTexels)
+  if (sized->cellsAsTexels)
     descriptors.texels(gpu::kGlowDrawLightBinding, g.lightTexels);
   else
     descriptors.buffer(gpu::kGlowDrawLightBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                        g.light.get());
-  if (splat) m.sums(descriptors, gpu::kGlowDrawSumsBinding, frame);
-  descriptors.bind(m.c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, m.sized->glowDrawLayout,
-                   m.sized->glowDrawSet, m.sets[frame]);
-  m.c.vk.CmdPushConstants(commands, m.sized->glowDrawLayout, kDrawStages, 0, sizeof(params),
-                          &params);
-  m.c.vk.CmdDrawIndirect(commands, g.list.get(), 0, 1, sizeof(VkDrawIndirectCommand));
+  if (splat) sums(descriptors, gpu::kGlowDrawSumsBinding, frame);
+  descriptors.bind(c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, sized->glowDrawLayout,
+                   sized->glowDrawSet, sets[frame]);
+  c.vk.CmdPushConstants(commands, sized->glowDrawLayout, kDrawStages, 0, sizeof(params), &params);
+  c.vk.CmdDrawIndirect(commands, g.list.get(), 0, 1, sizeof(VkDrawIndirectCommand));
 }
 
 }  // namespace lava

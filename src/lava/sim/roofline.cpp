@@ -79,17 +79,31 @@ float invRadius(const Scene& scene) {
   return 1.0f / scene.flow->radius;
 }
 
+// A compute kernel as every ceiling here runs one: one set of `bindings` and `pushBytes` of
+// push constants, both for the compute stage only.
+struct Kernel {
+  detail::UniqueDescriptorSetLayout setLayout;
+  detail::UniquePipelineLayout layout;
+  detail::UniquePipeline pipeline;
+};
+
+Kernel createKernel(const detail::DeviceContext& c,
+                    std::initializer_list<VkDescriptorType> bindings, uint32_t pushBytes,
+                    detail::Spirv shader, const detail::Constants& constants) {
+  Kernel k;
+  k.setLayout = detail::createSetLayout(c, bindings, VK_SHADER_STAGE_COMPUTE_BIT);
+  k.layout = detail::createPipelineLayout(c, k.setLayout, VK_SHADER_STAGE_COMPUTE_BIT, pushBytes);
+  k.pipeline = detail::createComputePipeline(c, k.layout, shader, constants);
+  return k;
+}
+
 }  // namespace
 
 double gpuCopySeconds(Device& device, uint64_t particles, int passes) {
   const detail::DeviceContext& c = device.context();
-  const auto setLayout = detail::createSetLayout(
-      c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-      VK_SHADER_STAGE_COMPUTE_BIT);
-  const auto layout =
-      detail::createPipelineLayout(c, setLayout, VK_SHADER_STAGE_COMPUTE_BIT, sizeof(glm::uvec4));
-  const auto pipeline = detail::createComputePipeline(c, layout, LAVA_SPIRV(spirv::kCopyCompSpv),
-                                                      {gpu::kWorkgroupSize});
+  const Kernel k =
+      createKernel(c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                   sizeof(glm::uvec4), LAVA_SPIRV(spirv::kCopyCompSpv), {gpu::kWorkgroupSize});
   struct Chunk {
     detail::Buffer source, destination;
     uint32_t count;
@@ -106,7 +120,7 @@ double gpuCopySeconds(Device& device, uint64_t particles, int passes) {
   return medianSeconds(
       c, sets, passes, [&](VkCommandBuffer commands) { afterThePreviousPass(c, commands); },
       [&](VkCommandBuffer commands, int) {
-        c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+        c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline);
         for (const Chunk& chunk : chunks) {
           const glm::uvec4 range{0u, chunk.count, 0u, 0u};
           detail::Descriptors()
@@ -114,8 +128,8 @@ double gpuCopySeconds(Device& device, uint64_t particles, int passes) {
                       chunk.source.get())
               .buffer(gpu::kCopyDestinationBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                       chunk.destination.get())
-              .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, setLayout, sets);
-          c.vk.CmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(range),
+              .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, k.layout, k.setLayout, sets);
+          c.vk.CmdPushConstants(commands, k.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(range),
                                 &range);
           c.vk.CmdDispatch(commands, detail::groupCount(chunk.count, gpu::kWorkgroupSize), 1, 1);
         }
@@ -190,31 +204,21 @@ double cpuComputeUpdatesPerSecond(const Scene& scene, const std::vector<Particle
   return median(rates);
 }
 
-double gpuComputeUpdatesPerSecond(Device& device, const Scene& scene,
-                                  const std::vector<Particle>& start, uint32_t steps, int passes) {
-  const uint64_t particles = start.size();
+namespace {
+
+// A chunk of the kernel's run: its particles on the device, and the start state they are
+// reset from before each pass.
+struct StartChunk {
+  detail::Buffer particles, source;
+  detail::UniqueBufferView texels;
+  uint32_t count;
+};
+
+// `start` in chunks as a simulation holds them, each with its start state uploaded.
+std::vector<StartChunk> startChunks(Device& device, const std::vector<Particle>& start) {
   const detail::DeviceContext& c = device.context();
-  const auto setLayout = detail::createSetLayout(
-      c,
-      {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-       VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
-      VK_SHADER_STAGE_COMPUTE_BIT);
-  const auto layout = detail::createPipelineLayout(c, setLayout, VK_SHADER_STAGE_COMPUTE_BIT,
-                                                   sizeof(gpu::StepParams));
-  const auto pipeline = detail::createComputePipeline(
-      c, layout, LAVA_SPIRV(spirv::kStepKernelOnlySpv), detail::stepConstants(scene));
-  detail::Buffer params(c, sizeof(gpu::SceneParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
-                        detail::MemoryUse::Upload);
-  const gpu::SceneParams sceneParams = detail::sceneParams(scene);
-  std::memcpy(params.mapped(), &sceneParams, sizeof(sceneParams));
-  params.flush();
-  struct Chunk {
-    detail::Buffer particles, source;
-    detail::UniqueBufferView texels;
-    uint32_t count;
-  };
-  std::vector<Chunk> chunks;
-  for (const auto& [first, count] : chunkRanges(device, particles)) {
+  std::vector<StartChunk> chunks;
+  for (const auto& [first, count] : chunkRanges(device, start.size())) {
     const VkDeviceSize bytes = VkDeviceSize{count} * sizeof(Particle);
     detail::Buffer source(c, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, detail::MemoryUse::Upload);
     std::memcpy(source.mapped(), &start[first], bytes);
@@ -227,25 +231,48 @@ double gpuComputeUpdatesPerSecond(Device& device, const Scene& scene,
     auto texels = detail::createTexelView(c, buffer.get(), bytes);
     chunks.push_back({std::move(buffer), std::move(source), std::move(texels), count});
   }
+  return chunks;
+}
+
+// Each pass from the start state, so it steps what the timed run stepped (WAW/WAR: the
+// previous pass read and wrote the particles).
+void recordRestart(const detail::DeviceContext& c, VkCommandBuffer commands,
+                   const std::vector<StartChunk>& chunks) {
+  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT,
+                        VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+  for (const StartChunk& chunk : chunks) {
+    const VkBufferCopy region{0, 0, VkDeviceSize{chunk.count} * sizeof(Particle)};
+    c.vk.CmdCopyBuffer(commands, chunk.source.get(), chunk.particles.get(), 1, &region);
+  }
+  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+}
+
+}  // namespace
+
+double gpuComputeUpdatesPerSecond(Device& device, const Scene& scene,
+                                  const std::vector<Particle>& start, uint32_t steps, int passes) {
+  const uint64_t particles = start.size();
+  const detail::DeviceContext& c = device.context();
+  const Kernel k = createKernel(
+      c,
+      {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+       VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
+      sizeof(gpu::StepParams), LAVA_SPIRV(spirv::kStepKernelOnlySpv), detail::stepConstants(scene));
+  detail::Buffer params(c, sizeof(gpu::SceneParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                        detail::MemoryUse::Upload);
+  const gpu::SceneParams sceneParams = detail::sceneParams(scene);
+  std::memcpy(params.mapped(), &sceneParams, sizeof(sceneParams));
+  params.flush();
+  const std::vector<StartChunk> chunks = startChunks(device, start);
   detail::DescriptorArena sets(c);
-  // Each pass from the start state, so it steps what the timed run stepped (WAW/WAR: the
-  // previous pass read and wrote the particles).
-  const auto reset = [&](VkCommandBuffer commands) {
-    detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                          VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT,
-                          VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
-    for (const Chunk& chunk : chunks) {
-      const VkBufferCopy region{0, 0, VkDeviceSize{chunk.count} * sizeof(Particle)};
-      c.vk.CmdCopyBuffer(commands, chunk.source.get(), chunk.particles.get(), 1, &region);
-    }
-    detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-  };
+  const auto reset = [&](VkCommandBuffer commands) { recordRestart(c, commands, chunks); };
   const double seconds =
       medianSeconds(c, sets, passes, reset, [&](VkCommandBuffer commands, int pass) {
-        c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-        for (const Chunk& chunk : chunks) {
+        c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline);
+        for (const StartChunk& chunk : chunks) {
           gpu::StepParams push{};
           push.run = {0u, pass < 0 ? std::min(steps, 64u) : steps, 0u, 0u};
           push.chunk = {0u, chunk.count, 0u, 0u};
@@ -255,8 +282,8 @@ double gpuComputeUpdatesPerSecond(Device& device, const Scene& scene,
               .texels(gpu::kParticleTexelBinding, chunk.texels.get())
               .buffer(gpu::kSceneBinding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params.get(), 0,
                       sizeof(gpu::SceneParams))
-              .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, setLayout, sets);
-          c.vk.CmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push),
+              .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, k.layout, k.setLayout, sets);
+          c.vk.CmdPushConstants(commands, k.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push),
                                 &push);
           const uint64_t invocations = (uint64_t{chunk.count} + gpu::kParticlesPerInvocation - 1) /
                                        gpu::kParticlesPerInvocation;
@@ -342,15 +369,11 @@ double gpuFlowPairsPerSecond(Device& device, const Scene& scene, const FlowNeigh
                              int passes) {
   const float inv = invRadius(scene);
   const detail::DeviceContext& c = device.context();
-  const auto setLayout = detail::createSetLayout(
-      c,
-      {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-       VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-      VK_SHADER_STAGE_COMPUTE_BIT);
-  const auto layout = detail::createPipelineLayout(c, setLayout, VK_SHADER_STAGE_COMPUTE_BIT,
-                                                   2 * sizeof(glm::uvec4));
-  const auto pipeline = detail::createComputePipeline(c, layout, LAVA_SPIRV(spirv::kFlowPairsSpv),
-                                                      {gpu::kWorkgroupSize});
+  const Kernel k =
+      createKernel(c,
+                   {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                   2 * sizeof(glm::uvec4), LAVA_SPIRV(spirv::kFlowPairsSpv), {gpu::kWorkgroupSize});
   const auto upload = [&](const void* data, VkDeviceSize bytes) {
     detail::Buffer b(c, std::max<VkDeviceSize>(bytes, 4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                      detail::MemoryUse::Upload);
@@ -370,15 +393,16 @@ double gpuFlowPairsPerSecond(Device& device, const Scene& scene, const FlowNeigh
   const double seconds = medianSeconds(
       c, sets, passes, [&](VkCommandBuffer commands) { afterThePreviousPass(c, commands); },
       [&](VkCommandBuffer commands, int) {
-        c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+        c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline);
         detail::Descriptors()
             .buffer(0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, pos.get())
             .buffer(1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, starts.get())
             .buffer(2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, lists.get())
             .buffer(3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sums.get())
-            .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, setLayout, sets);
+            .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, k.layout, k.setLayout, sets);
         const glm::uvec4 push[2] = {{count, 0u, 0u, 0u}, {glm::floatBitsToUint(inv), 0u, 0u, 0u}};
-        c.vk.CmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), push);
+        c.vk.CmdPushConstants(commands, k.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push),
+                              push);
         c.vk.CmdDispatch(commands, detail::groupCount(count, gpu::kWorkgroupSize), 1, 1);
       });
   return double(n.lists.size()) / seconds;

@@ -14,34 +14,33 @@ void require(F function, const char* name) {
 
 }  // namespace
 
+// Each level's loader below names `get`, its lookup of a function by name (global, instance
+// or device), so one pair of macros loads every level: optional, or required (ResourceError).
+#define LAVA_VK_OPTIONAL(name) name = reinterpret_cast<PFN_vk##name>(get("vk" #name));
+#define LAVA_VK_REQUIRED(name) \
+  LAVA_VK_OPTIONAL(name)       \
+  require(name, #name);
+
 void Vk::loadGlobal(PFN_vkGetInstanceProcAddr getInstanceProcAddr) {
   GetInstanceProcAddr = getInstanceProcAddr;
-#define LAVA_VK_LOAD(name) \
-  name = reinterpret_cast<PFN_vk##name>(GetInstanceProcAddr(VK_NULL_HANDLE, "vk" #name));
-  LAVA_VK_GLOBAL(LAVA_VK_LOAD)
-#undef LAVA_VK_LOAD
+  const auto get = [&](const char* name) { return GetInstanceProcAddr(VK_NULL_HANDLE, name); };
+  LAVA_VK_GLOBAL(LAVA_VK_OPTIONAL)
 }
 
 void Vk::loadInstance(VkInstance instance) {
-#define LAVA_VK_LOAD(name)                                                          \
-  name = reinterpret_cast<PFN_vk##name>(GetInstanceProcAddr(instance, "vk" #name)); \
-  require(name, #name);
-  LAVA_VK_INSTANCE(LAVA_VK_LOAD)
-#undef LAVA_VK_LOAD
-  CreateDebugUtilsMessengerEXT = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
-      GetInstanceProcAddr(instance, "vkCreateDebugUtilsMessengerEXT"));
-  DestroyDebugUtilsMessengerEXT = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
-      GetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
+  const auto get = [&](const char* name) { return GetInstanceProcAddr(instance, name); };
+  LAVA_VK_INSTANCE(LAVA_VK_REQUIRED)
+  LAVA_VK_OPTIONAL(CreateDebugUtilsMessengerEXT)
+  LAVA_VK_OPTIONAL(DestroyDebugUtilsMessengerEXT)
 }
 
 void Vk::loadDevice(VkDevice device) {
-#define LAVA_VK_LOAD(name)                                                      \
-  name = reinterpret_cast<PFN_vk##name>(GetDeviceProcAddr(device, "vk" #name)); \
-  require(name, #name);
-  LAVA_VK_DEVICE(LAVA_VK_LOAD)
-#undef LAVA_VK_LOAD
-  CmdPushDescriptorSetKHR = reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(
-      GetDeviceProcAddr(device, "vkCmdPushDescriptorSetKHR"));
+  const auto get = [&](const char* name) { return GetDeviceProcAddr(device, name); };
+  LAVA_VK_DEVICE(LAVA_VK_REQUIRED)
+  LAVA_VK_OPTIONAL(CmdPushDescriptorSetKHR)
 }
+
+#undef LAVA_VK_REQUIRED
+#undef LAVA_VK_OPTIONAL
 
 }  // namespace lava::detail

@@ -1,5 +1,6 @@
 #include "buffer.h"
 
+#include "common/barriers.h"
 #include "common/check.h"
 #include "common/images.h"
 
@@ -11,11 +12,7 @@ UniqueMemory allocateMemory(const DeviceContext& c, VkDeviceSize size, uint32_t 
   alloc.memoryTypeIndex = type;
   VkDeviceMemory memory = VK_NULL_HANDLE;
   const VkResult allocated = c.vk.AllocateMemory(c.device(), &alloc, c.allocator(), &memory);
-  if (allocated == VK_ERROR_OUT_OF_DEVICE_MEMORY || allocated == VK_ERROR_OUT_OF_HOST_MEMORY)
-    throw ResourceError("out of memory: vkAllocateMemory of " +
-                        (size >= (VkDeviceSize{1} << 20) ? std::to_string(size >> 20) + " MiB"
-                                                         : std::to_string(size) + " bytes") +
-                        " on the Vulkan device failed with " + resultName(allocated));
+  common::throwIfOutOfMemory(allocated, size);
   VK_CHECK_RESULT(allocated, "vkAllocateMemory");
   return UniqueMemory(c, memory);
 }
@@ -77,11 +74,7 @@ Image createImage(const DeviceContext& c, VkExtent2D extent, VkFormat format,
       c, requirements.size,
       c.findMemoryType(requirements.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT));
   VK_CHECK(c.vk.BindImageMemory(c.device(), image, out.memory, 0));
-  VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-  view.image = image;
-  view.viewType = VK_IMAGE_VIEW_TYPE_2D;
-  view.format = format;
-  view.subresourceRange = {aspect, 0, 1, 0, 1};
+  const VkImageViewCreateInfo view = common::viewInfo2D(image, format, aspect);
   VkImageView handle = VK_NULL_HANDLE;
   VK_CHECK(c.vk.CreateImageView(c.device(), &view, c.allocator(), &handle));
   out.view = UniqueImageView(c, handle);

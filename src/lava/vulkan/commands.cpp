@@ -51,37 +51,37 @@ UniquePipelineLayout createPipelineLayout(const DeviceContext& c, VkDescriptorSe
   return UniquePipelineLayout(c, layout);
 }
 
-VkWriteDescriptorSet& Descriptors::next(uint32_t binding, VkDescriptorType type) {
+// Every kind of write keeps its info at the write's own index, where the pointer the write
+// holds stays valid until bind; the limit is checked before anything is stored.
+template <typename Info>
+Descriptors& Descriptors::add(uint32_t binding, VkDescriptorType type,
+                              std::array<Info, kMax>& infos,
+                              const Info* VkWriteDescriptorSet::*field, const Info& info) {
   if (count_ == kMax) throw std::logic_error("Descriptors: too many writes");
   VkWriteDescriptorSet& w = writes_[count_];
   w = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
   w.dstBinding = binding;
   w.descriptorCount = 1;
   w.descriptorType = type;
-  return w;
+  infos[count_] = info;
+  w.*field = &infos[count_];
+  ++count_;
+  return *this;
 }
 
 Descriptors& Descriptors::buffer(uint32_t binding, VkDescriptorType type, VkBuffer buffer,
                                  VkDeviceSize offset, VkDeviceSize range) {
-  buffers_[count_] = {buffer, offset, range};
-  next(binding, type).pBufferInfo = &buffers_[count_];
-  ++count_;
-  return *this;
+  return add(binding, type, buffers_, &VkWriteDescriptorSet::pBufferInfo, {buffer, offset, range});
 }
 
 Descriptors& Descriptors::texels(uint32_t binding, VkBufferView view) {
-  views_[count_] = view;
-  next(binding, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER).pTexelBufferView = &views_[count_];
-  ++count_;
-  return *this;
+  return add(binding, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, views_,
+             &VkWriteDescriptorSet::pTexelBufferView, view);
 }
 
 Descriptors& Descriptors::image(uint32_t binding, VkDescriptorType type, VkImageView view,
                                 VkImageLayout layout, VkSampler sampler) {
-  images_[count_] = {sampler, view, layout};
-  next(binding, type).pImageInfo = &images_[count_];
-  ++count_;
-  return *this;
+  return add(binding, type, images_, &VkWriteDescriptorSet::pImageInfo, {sampler, view, layout});
 }
 
 void Descriptors::bind(const DeviceContext& c, VkCommandBuffer commands, VkPipelineBindPoint point,

@@ -70,7 +70,10 @@ class LAVA_INTERNAL Descriptors {
   std::array<VkDescriptorImageInfo, kMax> images_{};
   std::array<VkBufferView, kMax> views_{};
   size_t count_ = 0;
-  VkWriteDescriptorSet& next(uint32_t binding, VkDescriptorType type);
+  // Appends a write of `info` (stored in `infos`, pointed at by the write's `field`).
+  template <typename Info>
+  Descriptors& add(uint32_t binding, VkDescriptorType type, std::array<Info, kMax>& infos,
+                   const Info* VkWriteDescriptorSet::*field, const Info& info);
 };
 
 // One global memory barrier.
