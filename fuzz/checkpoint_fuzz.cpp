@@ -9,7 +9,7 @@
 
 #include "lava/checkpoint.h"
 #include "lava/error.h"
-#include "sim/fuzzing.h"
+#include "tools/fuzzing.h"
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   lava::compareCheckpointSums(false);  // docs/fuzzing.md

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "cli.h"
-#include "sim/fuzzing.h"
+#include "tools/fuzzing.h"
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   lava::compareCheckpointSums(false);  // docs/fuzzing.md

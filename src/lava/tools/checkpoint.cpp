@@ -19,14 +19,14 @@
 #include "common/hash.h"
 #include "common/npy.h"
 #include "lava/error.h"
-#include "sim/fuzzing.h"
+#include "tools/fuzzing.h"
 
 namespace lava {
 namespace {
 
 // -- bytes --------------------------------------------------------------------------------
 
-std::atomic<bool> compareSums{true};  // sim/fuzzing.h
+std::atomic<bool> compareSums{true};  // tools/fuzzing.h
 
 uint32_t crc32(const std::string& data) {
   static const std::array<uint32_t, 256> table = [] {
