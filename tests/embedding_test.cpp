@@ -43,6 +43,7 @@ class HostDevice : public vkhost::Device {
     o.name = "embedding test";
     o.apiVersion = apiVersion;
     o.requireValidation = true;
+    o.countGeneral = true;  // any message of the layer fails the test
     return o;
   }
 };
@@ -96,7 +97,7 @@ TEST_P(Embedding, FramesInFlightWithChangingStepCountsMatchTheCpu) {
   VkBuffer buffer = VK_NULL_HANDLE;
   EXPECT_EQ(vkCreateBuffer(host.handles.device, &info, nullptr, &buffer), VK_SUCCESS);
   vkDestroyBuffer(host.handles.device, buffer, nullptr);
-  for (const std::string& m : host.messages) ADD_FAILURE() << "validation: " << m;
+  for (const std::string& m : host.messages()) ADD_FAILURE() << "validation: " << m;
 }
 
 // Fused steps per dispatch: one (memory-bound), a prime, the default.
@@ -329,7 +330,7 @@ TEST_P(EmbeddingRecordOnly, LavaMakesNoSubmitOrWaitFromCreationToDestruction) {
     bounded.maxParticleStepsPerSubmission = 0;
     EXPECT_THROW(GpuSimulation(device, scene, bounded), InvalidArgument);
   }
-  for (const std::string& m : host.messages) ADD_FAILURE() << "validation: " << m;
+  for (const std::string& m : host.messages()) ADD_FAILURE() << "validation: " << m;
 }
 
 // Vulkan 1.3, and a host of Vulkan 1.2 with dynamic rendering as an extension.
@@ -393,7 +394,7 @@ TEST(EmbeddingFrameSlots, ASlotPastTheDevicesCountIsRefused) {
     const Comparison diff = compare(gpu.state().particles, cpu.state().particles);
     EXPECT_EQ(diff.equal, diff.particles) << "max ULP " << diff.maxUlp;
   }
-  for (const std::string& m : host.messages) ADD_FAILURE() << "validation: " << m;
+  for (const std::string& m : host.messages()) ADD_FAILURE() << "validation: " << m;
 }
 
 // The frame recipe with depth (docs/library.md), in the host's render passes and in dynamic
@@ -452,13 +453,7 @@ TEST(EmbeddingRenderPass, DrawsWhatDynamicRenderingDraws) {
     const VkRenderPassCreateInfo info = common::onePassInfo(a, 2, subpass, nullptr, 0);
     ASSERT_EQ(vkCreateRenderPass(vk, &info, nullptr, &passes[load]), VK_SUCCESS);
     const VkImageView views[2] = {images[0].view, images[1].view};
-    VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-    fb.renderPass = passes[load];
-    fb.attachmentCount = 2;
-    fb.pAttachments = views;
-    fb.width = extent.width;
-    fb.height = extent.height;
-    fb.layers = 1;
+    const VkFramebufferCreateInfo fb = common::framebufferInfo(passes[load], views, 2, extent);
     ASSERT_EQ(vkCreateFramebuffer(vk, &fb, nullptr, &framebuffers[load]), VK_SUCCESS);
   }
 
@@ -582,7 +577,7 @@ TEST(EmbeddingRenderPass, DrawsWhatDynamicRenderingDraws) {
     vkDestroyFramebuffer(vk, framebuffers[i], nullptr);
     vkDestroyRenderPass(vk, passes[i], nullptr);
   }
-  for (const std::string& m : host.messages) ADD_FAILURE() << "validation: " << m;
+  for (const std::string& m : host.messages()) ADD_FAILURE() << "validation: " << m;
 }
 
 // Two simulations on one borrowed device, each built and recorded on a thread of its own
@@ -633,7 +628,7 @@ TEST(EmbeddingThreads, TwoSimulationsRecordOnTwoThreads) {
     const Comparison diff = compare(results[i], cpu.state().particles);
     EXPECT_EQ(diff.equal, diff.particles) << "simulation " << i << ": max ULP " << diff.maxUlp;
   }
-  for (const std::string& m : host.messages) ADD_FAILURE() << "validation: " << m;
+  for (const std::string& m : host.messages()) ADD_FAILURE() << "validation: " << m;
 }
 
 // deviceRequirements() asked about a device reports what it offers; a host that tells Lava
@@ -676,7 +671,7 @@ TEST(EmbeddingFeatures, RequirementsAskTheDeviceAndEnabledFeaturesAreChecked) {
     Device device(handles);  // what the device really has: accepted
     EXPECT_EQ(device.handles().enabledFeatures, nullptr) << "kept a pointer of the host's";
   }
-  for (const std::string& m : host.messages) ADD_FAILURE() << "validation: " << m;
+  for (const std::string& m : host.messages()) ADD_FAILURE() << "validation: " << m;
 }
 
 // A host's render pass like Dear ImGui's: one colour attachment, cleared, no depth; left in
@@ -725,13 +720,7 @@ std::vector<uint8_t> drawInColourOnlyPass(Device& device, GpuSimulation& gpu, co
                         VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                         VK_IMAGE_ASPECT_COLOR_BIT);
   const vkhost::Readback readback(host, VkDeviceSize{extent.width} * extent.height * 4);
-  VkFramebufferCreateInfo fb{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-  fb.renderPass = pass;
-  fb.attachmentCount = 1;
-  fb.pAttachments = &image.view;
-  fb.width = extent.width;
-  fb.height = extent.height;
-  fb.layers = 1;
+  const VkFramebufferCreateInfo fb = common::framebufferInfo(pass, &image.view, 1, extent);
   VkFramebuffer framebuffer = VK_NULL_HANDLE;
   EXPECT_EQ(vkCreateFramebuffer(vk, &fb, nullptr, &framebuffer), VK_SUCCESS);
   vkhost::Frames frames(host, 1);
@@ -890,7 +879,7 @@ namespace {
 // the instance's version, it and Device refuse it first, naming VkApplicationInfo::apiVersion.
 TEST(EmbeddingVersions, AVulkan10InstanceIsRefusedByItsVersionWithoutAValidationMessage) {
   HostDevice host(VK_API_VERSION_1_0);
-  host.messages.clear();  // the host's own set-up is not Lava's
+  host.clearMessages();  // the host's own set-up is not Lava's
   const DeviceRequirements asked =
       deviceRequirements(host.handles.instance, host.handles.physicalDevice);
   EXPECT_EQ(asked.instanceApiVersion, VK_API_VERSION_1_2);
@@ -911,7 +900,7 @@ TEST(EmbeddingVersions, AVulkan10InstanceIsRefusedByItsVersionWithoutAValidation
   DeviceHandles handles = host.handles;
   handles.instanceApiVersion = VK_API_VERSION_1_0;
   expectRefusal([&] { Device device(handles); });
-  for (const std::string& m : host.messages) ADD_FAILURE() << "validation: " << m;
+  for (const std::string& m : host.messages()) ADD_FAILURE() << "validation: " << m;
 }
 
 // An instance made without application info is Vulkan 1.0, which hides dynamic rendering

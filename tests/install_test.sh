@@ -6,7 +6,7 @@
 # link Lava::lava alone, examples/headless Lava::lava_tools; examples/embed,
 # examples/headless and examples/renderpass configure, build and run against it with
 # find_package(Lava) (the render-pass host in a window under Xvfb, resized as it runs); the
-# headless example also builds as one file with `pkg-config --cflags --libs lava`. The
+# headless example also builds as one file with `pkg-config --cflags --libs lava_tools`. The
 # examples run on the pinned driver with the validation layer and synchronization
 # validation (embed and renderpass fail on a message).
 set -euo pipefail

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <functional>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -54,6 +55,8 @@ struct DeviceOptions {
   const char* name = "host";                    // VkApplicationInfo's, and the notes' prefix
   uint32_t apiVersion = VK_API_VERSION_1_3;     // the host's (VkApplicationInfo::apiVersion)
   bool requireValidation = false;               // fail when the layer is not installed
+  // Count the layer's general messages too (a test that fails on any); else they are notes.
+  bool countGeneral = false;
   std::vector<const char*> instanceExtensions;  // beside debug utils, e.g. GLFW's
   std::vector<const char*> deviceExtensions;    // beside Lava's, e.g. the swapchain
   bool dynamicRendering = true;                 // false: a host that draws only in render passes
@@ -68,40 +71,61 @@ struct DeviceOptions {
 // what Lava is given; the host destroys it all, after Lava's objects.
 class Device {
  public:
-  explicit Device(const DeviceOptions& options = {}) : name_(options.name) {
+  explicit Device(const DeviceOptions& options = {})
+      : name_(options.name), countGeneral_(options.countGeneral) {
     validation = options.requireValidation || hasLayer("VK_LAYER_KHRONOS_validation");
     createInstance(options);
-    pickQueue(options);
-    createDevice(options);
+    try {
+      pickQueue(options);
+      createDevice(options);
+    } catch (...) {  // no destructor runs for a constructor that throws
+      destroyInstance();
+      throw;
+    }
   }
   ~Device() {
     vkDestroyDevice(handles.device, nullptr);
+    destroyInstance();
+  }
+  Device(const Device&) = delete;  // the messenger holds its address
+  Device& operator=(const Device&) = delete;
+
+  // The layer's messages so far, one each (the layer may call from any thread).
+  std::vector<std::string> messages() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return messages_;
+  }
+  void clearMessages() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    messages_.clear();
+  }
+
+  lava::DeviceHandles handles;  // instance, physical device, device, queue, features
+  bool validation = false;      // the layer is on, with synchronization validation
+
+ private:
+  void destroyInstance() {
     if (messenger_)
       reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
           vkGetInstanceProcAddr(handles.instance, "vkDestroyDebugUtilsMessengerEXT"))(
           handles.instance, messenger_, nullptr);
     vkDestroyInstance(handles.instance, nullptr);
   }
-  Device(const Device&) = delete;  // the messenger holds its address
-  Device& operator=(const Device&) = delete;
 
-  lava::DeviceHandles handles;        // instance, physical device, device, queue, features
-  bool validation = false;            // the layer is on, with synchronization validation
-  std::vector<std::string> messages;  // the layer's, one per message
-
- private:
   // The loader's own notices (general messages, such as "VK_INSTANCE_LAYERS ... adding
-  // layers") are shown, not counted: they say how the instance was made, not that Lava
-  // misused Vulkan.
+  // layers") are shown, not counted, unless asked: they say how the instance was made, not
+  // that Lava misused Vulkan.
   static VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT,
                                                   VkDebugUtilsMessageTypeFlagsEXT type,
                                                   const VkDebugUtilsMessengerCallbackDataEXT* data,
                                                   void* self) {
     Device& host = *static_cast<Device*>(self);
-    if (type & VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT)
-      host.messages.emplace_back(data->pMessage);
-    else
+    if (!(type & VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT) && !host.countGeneral_) {
       std::fprintf(stderr, "%s: note: %s\n", host.name_, data->pMessage);
+      return VK_FALSE;
+    }
+    std::lock_guard<std::mutex> lock(host.mutex_);
+    host.messages_.emplace_back(data->pMessage);
     return VK_FALSE;
   }
 
@@ -185,9 +209,14 @@ class Device {
     enabled.features.shaderInt64 = handles.int64Atomics;
     atomics.pNext = nullptr;
     atomics.shaderBufferInt64Atomics = handles.int64Atomics;
-    enabled.pNext = &dynamic;
-    dynamic.pNext = handles.int64Atomics ? &atomics : nullptr;
-    handles.dynamicRendering = dynamic.dynamicRendering;
+    // The dynamic-rendering structure only when it is asked for (on 1.2 its extension is).
+    void** tail = &enabled.pNext;
+    if (options.dynamicRendering) {
+      *tail = &dynamic;
+      tail = &dynamic.pNext;
+    }
+    if (handles.int64Atomics) *tail = &atomics;
+    handles.dynamicRendering = options.dynamicRendering;
 
     std::vector<const char*> extensions = needs.extensions;
     if (!options.dynamicRendering)  // on 1.2 it is the extension; not asked for, not enabled
@@ -198,7 +227,11 @@ class Device {
                        extensions.end());
     extensions.insert(extensions.end(), options.deviceExtensions.begin(),
                       options.deviceExtensions.end());
-    if (options.optionalFeatures) handles.pushDescriptors = addOffered(needs, extensions);
+    if (options.optionalFeatures) addOffered(needs, extensions);
+    handles.pushDescriptors =
+        std::any_of(extensions.begin(), extensions.end(), [](const char* e) {
+          return std::strcmp(e, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME) == 0;
+        });
 
     const float priority = 1.0f;
     const VkDeviceQueueCreateInfo queue{
@@ -211,24 +244,22 @@ class Device {
     vkGetDeviceQueue(handles.device, handles.queueFamily, 0, &handles.queue);
   }
 
-  // Lava's optional extensions that the device offers, added; whether any was.
-  bool addOffered(const lava::DeviceRequirements& needs, std::vector<const char*>& extensions) {
+  // Lava's optional extensions that the device offers, added.
+  void addOffered(const lava::DeviceRequirements& needs, std::vector<const char*>& extensions) {
     uint32_t count = 0;
     vkEnumerateDeviceExtensionProperties(handles.physicalDevice, nullptr, &count, nullptr);
     std::vector<VkExtensionProperties> offered(count);
     vkEnumerateDeviceExtensionProperties(handles.physicalDevice, nullptr, &count, offered.data());
-    bool added = false;
     for (const char* optional : needs.optionalExtensions)
       for (const VkExtensionProperties& e : offered)
-        if (std::strcmp(e.extensionName, optional) == 0) {
-          extensions.push_back(optional);
-          added = true;
-        }
-    return added;
+        if (std::strcmp(e.extensionName, optional) == 0) extensions.push_back(optional);
   }
 
   const char* name_;
+  bool countGeneral_;
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  mutable std::mutex mutex_;
+  std::vector<std::string> messages_;
 };
 
 // The host's own 2D image in device-local memory, and its view.

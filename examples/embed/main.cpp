@@ -21,6 +21,8 @@
 
 namespace {
 
+constexpr int kFrames = 60;  // the frames the host draws
+
 using vkhost::check;
 using vkhost::imageBarrier;
 
@@ -126,15 +128,23 @@ int report(const vkhost::Device& host, lava::GpuSimulation& simulation, const la
   reference.advance(steps);
   const uint64_t equal = vkhost::identicalSlots(gpu, reference.state().particles);
   std::printf(
-      "embed: %llu steps, %llu/%zu slots bit-identical to the CPU reference, %zu lit pixels, "
-      "%zu validation messages\n",
-      static_cast<unsigned long long>(steps), static_cast<unsigned long long>(equal), gpu.size(),
-      lit, host.messages.size());
-  for (const std::string& m : host.messages)
+      "embed: %d frames, %llu steps, %llu/%zu slots bit-identical to the CPU reference, "
+      "%zu lit pixels, %zu validation messages\n",
+      kFrames, static_cast<unsigned long long>(steps), static_cast<unsigned long long>(equal),
+      gpu.size(), lit, host.messages().size());
+  for (const std::string& m : host.messages())
     std::fprintf(stderr, "embed: validation: %s\n", m.c_str());
-  const bool pass = equal == gpu.size() && lit > 1000 && host.messages.empty();
+  const bool pass = equal == gpu.size() && lit > 1000 && host.messages().empty();
   std::printf("embed: %s\n", pass ? "PASS" : "FAIL");
   return pass ? 0 : 1;
+}
+
+// What the host runs on: its log's first lines, which tell the drivers' runs apart.
+void describe(const vkhost::Device& host) {
+  std::printf("embed: validation layer %s\n", host.validation ? "on" : "not installed");
+  VkPhysicalDeviceProperties properties;
+  vkGetPhysicalDeviceProperties(host.handles.physicalDevice, &properties);
+  std::printf("embed: device %s\n", properties.deviceName);
 }
 
 int run() {
@@ -142,13 +152,12 @@ int run() {
   options.name = "embed";
   options.optionalFeatures = true;  // 64-bit atomics and push descriptors, where offered
   vkhost::Device host(options);
-  std::printf("embed: validation layer %s\n", host.validation ? "on" : "not installed");
+  describe(host);
   constexpr uint32_t framesInFlight = 2;
   const VkExtent2D extent{256, 256};
   const VkFormat colorFormat = VK_FORMAT_B8G8R8A8_UNORM;  // the host's choice
   const VkFormat depthFormat = VK_FORMAT_D32_SFLOAT;
   const Frame target(host.handles, extent, colorFormat, depthFormat);
-  vkhost::Frames frames(host.handles, framesInFlight);  // a command buffer and a fence each
 
   // [setup]
   // Lava on the host's handles: it never destroys them. Frame slots: the host's fences.
@@ -168,9 +177,11 @@ int run() {
   lava::OrbitCamera camera;
   const lava::View view{camera.viewProj(1.0f), extent, camera.eye()};  // what is drawn, where
   // [setup]
+  // A command buffer and a fence a frame in flight; gone (the device idle) before Lava's.
+  vkhost::Frames frames(host.handles, framesInFlight);
 
   uint64_t steps = 0;
-  for (int frame = 0; frame < 60; ++frame) {
+  for (int frame = 0; frame < kFrames; ++frame) {
     const uint32_t slot = frame % framesInFlight;  // the index of the fence that guards it
     VkCommandBuffer cmd = frames.begin(slot);      // once the slot's last frame has finished
     const uint32_t stepsThisFrame = 10 + frame % 7;  // as a variable frame time would give

@@ -304,7 +304,7 @@ int drawFrames(const vkhost::Device& vk, Swapchain& swapchain, GLFWwindow* windo
       "renderpass: %llu steps at %ux%u, %llu/%zu slots bit-identical to the CPU "
       "reference, %zu validation messages\n",
       static_cast<unsigned long long>(lava.steps), swapchain.extent.width, swapchain.extent.height,
-      static_cast<unsigned long long>(equal), gpu.size(), vk.messages.size());
+      static_cast<unsigned long long>(equal), gpu.size(), vk.messages().size());
   return equal == gpu.size() ? 0 : 1;
 }
 
@@ -345,9 +345,9 @@ int run(int frames) {
     for (VkRenderPass pass : swapchain.passes)
       vkDestroyRenderPass(vk.handles.device, pass, nullptr);
     vkDestroySurfaceKHR(vk.handles.instance, surface, nullptr);
-    for (const std::string& m : vk.messages)
+    for (const std::string& m : vk.messages())
       std::fprintf(stderr, "renderpass: validation: %s\n", m.c_str());
-    if (!vk.messages.empty()) status = 1;
+    if (!vk.messages().empty()) status = 1;
   }
   glfwDestroyWindow(window);
   glfwTerminate();

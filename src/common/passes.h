@@ -36,6 +36,11 @@ inline VkRenderPassCreateInfo onePassInfo(const VkAttachmentDescription* attachm
           dependencies};
 }
 
+// (Not for a temporary subpass: the create info would point at it.)
+VkRenderPassCreateInfo onePassInfo(const VkAttachmentDescription*, uint32_t,
+                                   const VkSubpassDescription&&, const VkSubpassDependency*,
+                                   uint32_t) = delete;
+
 // The create info of a framebuffer of `count` views for `pass`; it points into `views`.
 inline VkFramebufferCreateInfo framebufferInfo(VkRenderPass pass, const VkImageView* views,
                                                uint32_t count, VkExtent2D extent) {

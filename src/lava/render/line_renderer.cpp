@@ -160,12 +160,12 @@ struct LineRenderer::Impl {
   // The glow's quads (resolving the splat's sums too, when `splat`).
   void recordGlowDraw(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
                       const View& view, bool splat) const;
-  // Records slot `frame`'s scene depth (the solids of the simulation's scene, depth only)
-  // and returns its view, in DEPTH_STENCIL_READ_ONLY_OPTIMAL and visible to compute reads.
   // The depth pass, with its pipeline of the solids, made once.
   void createDepthPass();
   // Frame slot `frame`'s depth image and framebuffer, made at the first use.
-  SceneDepth& sceneDepth(uint32_t frame);
+  SceneDepth& depthTarget(uint32_t frame);
+  // Records slot `frame`'s scene depth (the solids of the simulation's scene, depth only)
+  // and returns its view, in DEPTH_STENCIL_READ_ONLY_OPTIMAL and visible to compute reads.
   VkImageView recordSceneDepth(VkCommandBuffer commands, uint32_t frame,
                                const GpuSimulation& simulation, const View& view);
   // The flow's molten rock under the lines, both renderers alike.
@@ -315,7 +315,7 @@ void LineRenderer::Impl::createDepthPass() {
   solidsDepth = detail::createGraphicsPipeline(c, solidsLayout, solids);
 }
 
-LineRenderer::Impl::SceneDepth& LineRenderer::Impl::sceneDepth(uint32_t frame) {
+LineRenderer::Impl::SceneDepth& LineRenderer::Impl::depthTarget(uint32_t frame) {
   constexpr VkFormat kDepth = VK_FORMAT_D32_SFLOAT;
   if (sceneDepths.size() <= frame) sceneDepths.resize(frame + 1);
   SceneDepth& d = sceneDepths[frame];
@@ -337,7 +337,7 @@ VkImageView LineRenderer::Impl::recordSceneDepth(VkCommandBuffer commands, uint3
                                                  const GpuSimulation& simulation,
                                                  const View& view) {
   if (!depthPass) createDepthPass();
-  const SceneDepth& d = sceneDepth(frame);
+  const SceneDepth& d = depthTarget(frame);
   VkClearValue clear{};
   clear.depthStencil = {1.0f, 0};
   VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};

@@ -221,16 +221,16 @@ void checkOptions(const GpuSimulationOptions& options) {
                           "expected 1 to 256, got " + std::to_string(options.stepsPerDispatch));
   if (options.maxParticleStepsPerSubmission < 1)
     throw InvalidArgument("maxParticleStepsPerSubmission", "expected at least 1, got 0");
-  if (options.maxParticlesPerChunk > 0 && options.maxParticlesPerChunk < gpu::kWorkgroupSize)
-    throw InvalidArgument("maxParticlesPerChunk",
-                          "expected 0 or at least " + std::to_string(gpu::kWorkgroupSize) +
-                              ", got " + std::to_string(options.maxParticlesPerChunk));
 }
 
 // The particles a buffer holds: the device's, or fewer whole workgroups when asked.
 uint32_t particlesPerChunk(const Device& device, const GpuSimulationOptions& options) {
   const uint32_t perChunk = device.particlesPerChunk();
   if (options.maxParticlesPerChunk == 0) return perChunk;
+  if (options.maxParticlesPerChunk < gpu::kWorkgroupSize)
+    throw InvalidArgument("maxParticlesPerChunk",
+                          "expected 0 or at least " + std::to_string(gpu::kWorkgroupSize) +
+                              ", got " + std::to_string(options.maxParticlesPerChunk));
   return std::min(perChunk, options.maxParticlesPerChunk -
                                 options.maxParticlesPerChunk % gpu::kWorkgroupSize);
 }
