@@ -261,18 +261,56 @@ struct FlowStepParams {
   uvec4 run;  // x the step's schedule entry, y the pass, z entries per emitter in the schedule
 };
 
-// rock.vert / rock.frag: the flow drawn as molten rock, a soft disc a flow slot facing the
-// camera, crust and cinders first, the liquid over them.
-const uint kRockParticleBinding = 0u;  // the flow's particles (GpuSimulation::flowBuffers)
-const uint kRockHeatBinding = 1u;      // FlowHeat beside each
-const uint kRockSolid = 0u;            // RockParams.draw.x: crust and cinders
-const uint kRockLiquid = 1u;           // the liquid
+// The flow drawn as one molten surface (surface.comp, surface.vert / surface.frag), at one
+// surface pixel per kSurfaceScale x kSurfaceScale pixels of the target. surface.comp's passes:
+// - depth: each alive flow slot a sphere; each surface pixel keeps the nearest depth (clip w,
+//   its float bits' atomicMin: the same on any order) and the hot liquid adds its light to the
+//   glow's cells;
+// - heat: the spheres within three radii behind a pixel's nearest keep the hottest liquid
+//   and the hottest solid there, and the nearest liquid (atomicMax of their bits);
+// - across, down: a bilateral filter of the depth (neighbours at other depths weigh
+//   nothing, so edges stay sharp) and of the heat, across then down.
+// surface.frag shades the result over the host's target, depth-tested against its depth.
+const uint kSurfaceScale = 2u;
+const uint kSurfaceParticleBinding = 0u;  // the flow's particles (GpuSimulation::flowBuffers)
+const uint kSurfaceHeatBinding = 1u;      // FlowHeat beside each
+const uint kSurfaceDepthBinding = 2u;     // uint a surface pixel: the nearest depth's bits
+const uint kSurfaceHottestBinding = 3u;   // uvec4 a surface pixel: hottest liquid and solid
+const uint kSurfaceSmoothBinding = 4u;    // SmoothPixel a surface pixel: filtered across
+const uint kSurfaceGlowBinding = 5u;      // the glow's sums (glow.comp's kGlowSumsBinding)
+// The filtered surface, an RGBA32F storage image two texels a surface pixel (its
+// SmoothPixel: depthHeat at x = 2i, cover at 2i + 1): written by the down pass, read by the
+// draws (on lavapipe a fragment shader's storage-buffer loads slow the whole pass down
+// several times over; an image's do not).
+const uint kSurfaceImageBinding = 6u;
+// The tiles of kSurfaceTile^2 surface pixels that any sphere touches (a uint each, row by
+// row, non-zero when touched): surface.vert draws those only.
+const uint kSurfaceTile = 32u;
+const uint kSurfaceMarksBinding = 7u;
+const uint kSurfaceDrawBinding = 0u;       // surface.frag: the filtered surface
+const uint kSurfaceDrawMarksBinding = 1u;  // surface.vert: the tiles
+// surface.comp's passes (SurfaceParams.size.z).
+const uint kSurfacePassDepth = 0u;
+const uint kSurfacePassHeat = 1u;
+const uint kSurfacePassAcross = 2u;
+const uint kSurfacePassDown = 3u;
+const uint kSurfaceEmpty = 0xffffffffu;  // a surface pixel no sphere covers
 
-// Push constants of rock.vert and rock.frag.
-struct RockParams {
+// A filtered surface pixel: x depth (clip w, m; 0 where empty), y the liquid's temperature,
+// z the solid's (K), w unused; cover: x the share where liquid is the surface, y where liquid
+// lies near it (at it or under a thin crust), z where solid does.
+struct SmoothPixel {
+  vec4 depthHeat;
+  vec4 cover;
+};
+
+// Push constants of surface.comp, surface.vert and surface.frag.
+struct SurfaceParams {
   mat4 viewProj;  // as DrawParams
-  vec4 heat;      // x solidus, y the eruption's temperature, z ambient (K), w disc radius (m)
-  uvec4 draw;     // x kRockSolid or kRockLiquid
+  vec4 heat;      // x solidus, y the eruption's temperature, z ambient (K), w sphere radius (m)
+  vec4 look;      // x exposure, y the glow's energy scale (0: no glow), z the rest spacing (m)
+  vec4 eye;       // xyz the camera (m)
+  uvec4 size;     // x, y surface pixels across and down, z the pass, w flow slots
 };
 
 // The two looks (DrawParams.style.w, BackdropParams.eye.w).
@@ -285,7 +323,11 @@ struct DrawParams {
   vec4 style;     // x line scale s (s), y speed (m/s) at which a line is fully red,
                   // z age (s) over which it cools, w the look
   vec4 target;    // x width, y height (pixels), z exposure, w shortest line drawn (px)
+  vec4 surface;   // the flow's surface, which hides lines behind it: x, y its pixels across
+                  // and down (0: no surface), z how far behind it a line is hidden (m)
 };
+// lines.frag: the filtered surface (surface.comp's kSurfaceImageBinding).
+const uint kLineSurfaceBinding = 1u;
 
 // Push constants of ground.vert / ground.frag: one solid of the backdrop.
 struct BackdropParams {
@@ -305,7 +347,7 @@ struct SplatParams {
   vec4 style;     // as DrawParams
   uvec4 target;   // x width, y height (pixels), z the end of the dispatch's particles in the
                   // bound chunk, w 1 when a scene depth is bound to test against
-  vec4 look;      // x exposure
+  vec4 look;      // x exposure; yzw the flow's surface, as DrawParams.surface
   uvec4 range;    // x the first of the dispatch's particles in the bound chunk
 };
 // Fixed-point scale of one line's colour (lava: energy) in the splat's sums: red in the high
@@ -336,6 +378,7 @@ const uint kSplatDepthBinding = 2u;  // the scene's depth, sampled (when target.
 // costs as much as a frame of a few thousand particles.
 const uint kResolveTile = 64u;
 const uint kSplatMarksBinding = 3u;
+const uint kSplatSurfaceBinding = 4u;  // the flow's surface's nearest depths (SplatParams.look)
 const uint kResolveMarksBinding = 1u;
 
 // The lava look's glow: bright lines spread light over cells of kGlowCell^2 pixels (glow.comp
@@ -401,8 +444,9 @@ static_assert(sizeof(FlowHeat) == 8 && sizeof(FlowNext) == 48 && sizeof(FlowScra
 static_assert(sizeof(FlowParams) == 96 + 16 * 16 + 64 * kMaxEmitters,
               "FlowParams as std140 lays it out");
 static_assert(sizeof(StepParams) == 32, "StepParams fits any push-constant budget");
-static_assert(sizeof(RockParams) == 96, "RockParams must fit 128 bytes of push constants");
-static_assert(sizeof(DrawParams) == 96, "DrawParams must fit 128 bytes of push constants");
+static_assert(sizeof(SurfaceParams) == 128, "SurfaceParams must fit 128 bytes of push constants");
+static_assert(sizeof(SmoothPixel) == 32, "SmoothPixel matches std430");
+static_assert(sizeof(DrawParams) == 112, "DrawParams must fit 128 bytes of push constants");
 static_assert(sizeof(GlowParams) == 128, "GlowParams must fit 128 bytes of push constants");
 static_assert(sizeof(BackdropParams) == 128, "BackdropParams must fit 128 bytes of push constants");
 static_assert(sizeof(SplatParams) == 128, "SplatParams must fit 128 bytes of push constants");

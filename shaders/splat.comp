@@ -33,9 +33,18 @@ layout(binding = kSplatDepthBinding) uniform sampler2D sceneDepth;
 layout(std430, binding = kSplatMarksBinding) restrict buffer Marks {
   uint marks[];
 };
+layout(std430, binding = kSplatSurfaceBinding) restrict readonly buffer Nearest {
+  uint nearest[];
+};
 layout(push_constant) uniform Push {
   SplatParams s;
 };
+
+float surfaceDepth(ivec2 q) {
+  uint z = nearest[q.y * int(s.look.y) + q.x];
+  return z == kSurfaceEmpty ? 0.0 : uintBitsToFloat(z);
+}
+#include "surface_depth.glsl"
 
 const uint kMaxPixels = 256u;  // longer lines are cut (they are rare and off-scale anyway)
 
@@ -132,6 +141,8 @@ void main() {
   vec2 pa = (a.xy / a.w * 0.5 + 0.5) * size;
   vec2 pb = (b.xy / b.w * 0.5 + 0.5) * size;
   if (s.target.w != 0u && hidden(pa, a.z / a.w) && hidden(pb, b.z / b.w)) return;
+  if (behindSurface(pa, a.w, vec4(s.look.yzw, 0.0)) && behindSurface(pb, b.w, vec4(s.look.yzw, 0.0)))
+    return;
   bool lava = s.style.w == kLookLava;
   vec2 color = lava ? lavaEmission(v, q.posAge.w, s.style) : lavaColor(v, q.posAge.w, s.style).rg;
   // Like a rasteriser's line: one pixel per pixel centre the line passes along its major

@@ -419,6 +419,18 @@ TEST(EmbeddingRenderPass, DrawsWhatDynamicRenderingDraws) {
   sphere.position = {1.6f, 1.6f, 2.3f};
   sphere.radius = 0.8f;
   scene.colliders.push_back(sphere);
+  // And a block of molten rock at the fountain's foot: the flow's surface, drawn in the pass.
+  scene.flow.emplace();
+  Emitter rock;
+  rock.flow = true;
+  rock.fill = Fill::Lattice;
+  rock.shape = Shape::Box;
+  rock.position = {0.5f, 0.06f, 0.8f};
+  rock.size = {0.3f, 0.05f, 0.3f};
+  rock.mass = scene.flow->density * 0.03f * 0.03f * 0.03f;  // 3 cm apart
+  rock.particles = rock.burst = 250;
+  rock.rate = 0.0;
+  scene.emitters.push_back(rock);
   // The host's attachments (the depth sampled by the splat) and read-back buffer.
   const vkhost::Image images[2] = {
       {host.handles, extent, kColor,

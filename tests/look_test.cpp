@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
+#include <string>
 #include <memory>
 
 #include <glm/glm.hpp>
@@ -17,6 +19,7 @@
 
 #include "host/frame_renderer.h"
 #include "host/offscreen.h"
+#include "host/output.h"
 #include "lava/lava.h"
 #include "test_scenes.h"
 #include "vulkan_test.h"
@@ -81,15 +84,19 @@ class LookTest : public test::VulkanTest {
     float temperature;
     bool crust;
   };
-  std::vector<uint8_t> renderRock(Scene scene, const std::vector<Rock>& rock, LineMode mode) {
+  // `sparks` (optional) are a second emitter's particles, drawn as lines over or under it.
+  std::vector<uint8_t> renderRock(Scene scene, const std::vector<Rock>& rock, LineMode mode,
+                                  LookSettings settings = kNoBloomSettings(),
+                                  const std::vector<Particle>& sparks = {}) {
     if (!scene.flow) scene.flow.emplace();
-    scene.emitters.resize(1);
+    scene.emitters.resize(sparks.empty() ? 1 : 2);
     Emitter& e = scene.emitters[0];
     e.particles = static_cast<uint32_t>(std::max<size_t>(rock.size(), 1));
     e.flow = true;
     e.shape = Shape::Box;
     const float spacing = 0.5f * scene.flow->radius;
     e.mass = scene.flow->density * spacing * spacing * spacing;
+    if (!sparks.empty()) scene.emitters[1].particles = static_cast<uint32_t>(sparks.size());
     GpuSimulation simulation(device(), scene);
     State state = initialState(scene);
     for (size_t i = 0; i < rock.size(); ++i) {
@@ -98,8 +105,44 @@ class LookTest : public test::VulkanTest {
       state.temperature[i] = rock[i].temperature;
       state.crust[i] = rock[i].crust ? 1 : 0;
     }
+    for (size_t k = 0; k < sparks.size(); ++k) state.particles[e.particles + k] = sparks[k];
     simulation.setState(state);
-    return draw(simulation, mode, kNoBloomSettings(), kSize);
+    std::vector<uint8_t> image = draw(simulation, mode, settings, kSize);
+    if (const char* dir = std::getenv("LAVA_LOOK_IMAGES")) {  // to look at what is tested
+      const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+      host::writePng(std::string(dir) + "/" + info->name() + "_" + std::to_string(++images_) +
+                         ".png",
+                     kSize.width, kSize.height, image);
+    }
+    return image;
+  }
+  int images_ = 0;
+  // One layer of a settled pool at height y: a square lattice of the rest spacing within
+  // `radius` of `centre`, all at `temperature`, crust or not.
+  static std::vector<Rock> layer(glm::vec3 centre, float radius, float y, float temperature,
+                                 bool crust) {
+    std::vector<Rock> out;
+    for (const Rock& r : pool(centre, radius, radius + 1.0f))
+      out.push_back({r.x + glm::vec3(0.0f, y, 0.0f), temperature, crust});
+    return out;
+  }
+  // The pixels of the pool's interior (within `inner` of `centre` on the ground).
+  std::vector<glm::ivec2> interior(glm::vec3 centre, float inner) const {
+    std::vector<glm::ivec2> out;
+    for (float z = -inner; z <= inner; z += 0.01f)
+      for (float x = -inner; x <= inner; x += 0.01f)
+        if (x * x + z * z <= inner * inner)
+          out.push_back(glm::ivec2(project(centre + glm::vec3(x, 0.0f, z))));
+    std::sort(out.begin(), out.end(),
+              [](glm::ivec2 a, glm::ivec2 b) { return a.y != b.y ? a.y < b.y : a.x < b.x; });
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+  // The mean colour of `image` over `pixels`.
+  static glm::dvec3 mean(const std::vector<uint8_t>& image, const std::vector<glm::ivec2>& pixels) {
+    glm::dvec3 sum(0.0);
+    for (const glm::ivec2 p : pixels) sum += glm::dvec3(pixel(image, p));
+    return sum / double(pixels.size());
   }
   static LookSettings kNoBloomSettings() { return {1.0f, 0.0f, 0.1f}; }
   // A settled pool on the ground at `centre`: a layer on a square lattice of the rest
@@ -305,6 +348,148 @@ TEST_F(LookTest, ASettledPoolHasNoHoles) {
         if (std::abs(d.x) + std::abs(d.y) + std::abs(d.z) < 6) ++holes;
       }
     EXPECT_EQ(holes, 0) << "of " << checked << " points inside the pool";
+  }
+}
+
+TEST_F(LookTest, ASettledPoolIsOneContinuousSurface) {
+  // A settled pool two layers deep, all liquid at one temperature, seen from 1.2 m (a particle
+  // about 8 pixels across): the particles merge into one smooth surface, with no disc edges or
+  // bumps. The mean luminance step between neighbouring pixels of its interior stays under a
+  // display step and a half; discs, or spheres left unfiltered, make steps of several.
+  camera_.target = {0.0f, 0.0f, 0.0f};
+  camera_.distance = 1.2f;
+  camera_.pitch = 0.5f;
+  std::vector<Rock> rock = layer(glm::vec3(0.0f), 0.45f, 0.0f, 1300.0f, false);
+  const std::vector<Rock> top = layer(glm::vec3(0.015f, 0.0f, 0.015f), 0.43f, 0.03f, 1300.0f, false);
+  rock.insert(rock.end(), top.begin(), top.end());
+  const std::vector<glm::ivec2> inside = interior(glm::vec3(0.0f), 0.3f);
+  for (LineMode mode : kModes) {
+    SCOPED_TRACE(name(mode));
+    const auto image = renderRock(Scene{}, rock, mode);
+    double steps = 0.0;
+    for (const glm::ivec2 p : inside)
+      steps += std::abs(luminance(pixel(image, p + glm::ivec2(1, 0))) - luminance(pixel(image, p))) +
+               std::abs(luminance(pixel(image, p + glm::ivec2(0, 1))) - luminance(pixel(image, p)));
+    steps /= 2.0 * double(inside.size());
+    EXPECT_GT(luminance(glm::ivec3(mean(image, inside))), 60.0) << "the pool glows";
+    EXPECT_LT(steps, 1.5) << "mean luminance step between neighbours over " << inside.size()
+                          << " pixels";
+  }
+}
+
+TEST_F(LookTest, HotLiquidIsBrighterAndYellowerThanLiquidNearTheSolidus) {
+  // The emission follows the temperature (blackbody.glsl): liquid at the eruption's 1,400 K
+  // outshines liquid 50 K above the 1,000 K solidus, and is yellower (more green to its red).
+  const std::vector<glm::ivec2> inside = interior(glm::vec3(0.0f), 0.3f);
+  for (LineMode mode : kModes) {
+    SCOPED_TRACE(name(mode));
+    const glm::dvec3 hot =
+        mean(renderRock(Scene{}, layer(glm::vec3(0.0f), 0.45f, 0.0f, 1400.0f, false), mode), inside);
+    const glm::dvec3 cool =
+        mean(renderRock(Scene{}, layer(glm::vec3(0.0f), 0.45f, 0.0f, 1050.0f, false), mode), inside);
+    EXPECT_GT(luminance(glm::ivec3(hot)), 2.0 * luminance(glm::ivec3(cool)))
+        << "hot " << hot.x << "," << hot.y << "; cool " << cool.x << "," << cool.y;
+    EXPECT_GT(hot.y / hot.x, cool.y / cool.x + 0.2) << "green to red";
+    EXPECT_GT(cool.x, 2.0 * cool.y) << "near the solidus: red";
+  }
+}
+
+TEST_F(LookTest, CrustIsDarkAndItsCracksShowTheLiquidBeneath) {
+  // Crust is darker than any liquid. A thin crust over hot liquid shows bright cracks where
+  // the same crust over cold crust shows none; crust near the ambient temperature is rock.
+  const std::vector<glm::ivec2> inside = interior(glm::vec3(0.0f), 0.3f);
+  const auto over = [](float beneath, bool crust) {
+    std::vector<Rock> rock = layer(glm::vec3(0.0f), 0.45f, 0.0f, beneath, crust);
+    const std::vector<Rock> skin = layer(glm::vec3(0.0f), 0.45f, 0.03f, 950.0f, true);
+    rock.insert(rock.end(), skin.begin(), skin.end());
+    return rock;
+  };
+  const auto bright = [&](const std::vector<uint8_t>& image) {
+    int n = 0;
+    for (const glm::ivec2 p : inside) n += luminance(pixel(image, p)) > 60.0;
+    return n;
+  };
+  for (LineMode mode : kModes) {
+    SCOPED_TRACE(name(mode));
+    const auto liquid = renderRock(Scene{}, layer(glm::vec3(0.0f), 0.45f, 0.0f, 1050.0f, false), mode);
+    const auto crust = renderRock(Scene{}, over(600.0f, true), mode);
+    const auto cracked = renderRock(Scene{}, over(1400.0f, false), mode);
+    const auto cold = renderRock(Scene{}, layer(glm::vec3(0.0f), 0.45f, 0.0f, 300.0f, true), mode);
+    const double l = luminance(glm::ivec3(mean(liquid, inside)));
+    const double c = luminance(glm::ivec3(mean(crust, inside)));
+    EXPECT_LT(c, 0.6 * l) << "crust " << c << ", liquid near the solidus " << l;
+    EXPECT_EQ(bright(crust), 0) << "crust over crust: no bright cracks";
+    const int cracks = bright(cracked);
+    EXPECT_GT(cracks, int(inside.size() / 20)) << "bright crack pixels of " << inside.size();
+    EXPECT_LT(cracks, int(inside.size() / 2)) << "cracks, not a molten pool";
+    const glm::dvec3 rock = mean(cold, inside);
+    EXPECT_LT(luminance(glm::ivec3(rock)), 25.0) << "cold crust is dark rock";
+    EXPECT_LT(rock.x, 1.6 * rock.z + 3.0) << "grey, not glowing red";
+  }
+}
+
+TEST_F(LookTest, HotRockLightsTheGroundBesideIt) {
+  // The hot pool's light reaches the ground around it through the glow; the same pool
+  // cooled to crust lights nothing there.
+  const glm::vec3 centre(0.0f);
+  std::vector<glm::ivec2> ring;
+  for (float a = 0.0f; a < 6.283f; a += 0.02f)
+    for (float r : {0.55f, 0.65f})
+      ring.push_back(glm::ivec2(project(centre + r * glm::vec3(std::cos(a), 0.0f, std::sin(a)))));
+  for (LineMode mode : kModes) {
+    SCOPED_TRACE(name(mode));
+    const auto hot = renderRock(Scene{}, layer(centre, 0.45f, 0.0f, 1400.0f, false), mode,
+                                LookSettings{});
+    const auto cooled = renderRock(Scene{}, layer(centre, 0.45f, 0.0f, 500.0f, true), mode,
+                                   LookSettings{});
+    const glm::dvec3 lit = mean(hot, ring), dark = mean(cooled, ring);
+    EXPECT_GT(lit.x, dark.x + 10.0) << "red beside the pool: hot " << lit.x << ", cooled "
+                                    << dark.x;
+  }
+}
+
+TEST_F(LookTest, SparksInFrontOfTheRockAreDrawnOverIt) {
+  // A fresh spark between the camera and a molten pool is drawn over the pool, in both
+  // renderers; the rock is the same in both.
+  const std::vector<Rock> rock = layer(glm::vec3(0.0f), 0.45f, 0.0f, 1100.0f, false);
+  const glm::vec3 eye(camera_.eye().x, camera_.eye().y, camera_.eye().z);
+  const glm::vec3 x = glm::mix(glm::vec3(0.0f), eye, 0.3f);
+  const Particle spark = particle(x, glm::vec3(0.0f, 0.0f, 0.0f), 0.0f);
+  std::vector<uint8_t> images[2];
+  for (LineMode mode : kModes) {
+    SCOPED_TRACE(name(mode));
+    const auto without = renderRock(Scene{}, rock, mode);
+    images[mode == LineMode::Splat] = without;
+    const auto with = renderRock(Scene{}, rock, mode, kNoBloomSettings(), {spark});
+    const glm::ivec2 at = mostLit(with, without, project(x), 2);
+    EXPECT_GT(luminance(pixel(with, at)), luminance(pixel(without, at)) + 20.0);
+  }
+  EXPECT_TRUE(images[0] == images[1]) << "the surface is one pass, the same in both renderers";
+}
+
+TEST_F(LookTest, RockHidesSparksBehindIt) {
+  // A cube of molten rock 30 cm a side, floating, and a spark behind it on the camera's line
+  // through its centre: neither renderer draws the spark; the same spark beside it, both do.
+  std::vector<Rock> cube;
+  for (int k = 0; k < 10; ++k) {
+    const std::vector<Rock> slice =
+        layer(glm::vec3(0.0f, 0.165f, 0.0f), 0.15f, 0.03f * float(k), 1200.0f, false);
+    for (const Rock& r : slice)
+      if (std::abs(r.x.x) <= 0.15f && std::abs(r.x.z) <= 0.15f) cube.push_back(r);
+  }
+  const glm::vec3 eye(camera_.eye().x, camera_.eye().y, camera_.eye().z);
+  const glm::vec3 centre(0.0f, 0.3f, 0.0f);
+  const glm::vec3 behind = centre + 0.35f * glm::normalize(centre - eye);
+  const glm::vec3 beside = behind + 0.6f * besideCone();
+  for (LineMode mode : kModes) {
+    SCOPED_TRACE(name(mode));
+    const auto alone = renderRock(Scene{}, cube, mode);
+    const auto hidden = renderRock(Scene{}, cube, mode, kNoBloomSettings(),
+                                   {particle(behind, glm::vec3(0.0f), 0.0f)});
+    const auto shown = renderRock(Scene{}, cube, mode, kNoBloomSettings(),
+                                  {particle(beside, glm::vec3(0.0f), 0.0f)});
+    EXPECT_TRUE(hidden == alone) << "a spark behind the rock is drawn";
+    EXPECT_FALSE(shown == alone) << "a spark beside the rock is not drawn";
   }
 }
 

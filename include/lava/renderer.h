@@ -84,7 +84,7 @@ class LAVA_API LineRenderer {
   // crater's scenery: what a Backdrop draws) into an image of Lava's own per frame slot, in
   // a render pass of its own outside the host's, and the splat (LineMode::Splat) tests
   // against it, so that solids hide the lava behind them; the lines of LineMode::Lines and
-  // the rock do not. Off by default; a depth view given to recordPrepare() is used instead.
+  // the flow's surface do not. Off by default; a depth view given to recordPrepare() is used instead.
   // Costs a depth image per frame slot and a depth-only pass at the target's size a frame
   // (docs/benchmarks.md).
   void setSceneDepth(bool on);
@@ -95,15 +95,17 @@ class LAVA_API LineRenderer {
   // texel views, which the spec lets hold as few as 65,536 texels; for a render pass the
   // constructor built them all; call it before recording for a new size,
   // when no frame using the old buffers is pending), for each frame slot in use (a slot's
-  // first recordPrepare() adds its own). recordPrepare() requires view.extent == the last
-  // setExtent().
+  // first recordPrepare() adds its own; for a simulation with a flow, the molten surface's
+  // buffers too, at half the extent each way). recordPrepare() requires view.extent == the
+  // last setExtent() (with the lines' graphics pipeline and no glow, only for a flow).
   void setExtent(VkExtent2D extent);
 
   // Outside rendering, after the simulation's recordSimulate():
   // a barrier from the particle writes (COMPUTE_SHADER / SHADER_WRITE) to this renderer's
   // reads (VERTEX_SHADER and COMPUTE_SHADER / SHADER_READ); in splat mode, frame slot
   // `frame`'s splat pass (a fill, then compute); in the lava look, its glow passes (fills,
-  // then compute); their results made visible to the draw (DRAW_INDIRECT, VERTEX_SHADER,
+  // then compute); for a simulation with a flow, its molten surface's passes (fills, then
+  // compute: docs/flow.md, "On screen"); their results made visible to the draw (DRAW_INDIRECT, VERTEX_SHADER,
   // FRAGMENT_SHADER reads). `depth` (optional; the recorded commands use it, so it must
   // live until they have finished): a view of the scene's depth (the format
   // given at construction; the image made with VK_IMAGE_USAGE_SAMPLED_BIT besides
@@ -124,9 +126,10 @@ class LAVA_API LineRenderer {
   // Inside the host's dynamic rendering scope (vkCmdBeginRendering) with the formats given
   // at construction, or in the render pass's subpass given (a UNORM colour target: the lava
   // look blends src (1 - dst) + dst), the colour attachment in COLOR_ATTACHMENT_OPTIMAL:
-  // draws the lines, depth-tested against the depth attachment (not written; it may be in
-  // DEPTH_STENCIL_READ_ONLY_OPTIMAL, as the view given to recordPrepare() is), then the
-  // glow. Sets viewport, scissor, pipeline and push constants. Records only.
+  // draws the flow's molten surface (opaque), then the lines, both depth-tested against the
+  // depth attachment (not written; it may be in DEPTH_STENCIL_READ_ONLY_OPTIMAL, as the view
+  // given to recordPrepare() is), the lines behind the surface left out, then the glow. Sets
+  // viewport, scissor, pipeline and push constants. Records only.
   void recordDraw(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
                   const View& view) const;
 

@@ -12,6 +12,8 @@
 #include <thread>
 
 #include "commands.h"
+#include "host/frame_renderer.h"
+#include "host/offscreen.h"
 #include "host/output.h"
 #include "lava/bench.h"
 #include "lava/lava.h"
@@ -84,6 +86,11 @@ class BenchCommand final : public Command {
                      "with --flow: every particle at one point at rest instead, a point "
                      "burst's first steps (the grid's worst case: one bucket)",
                      point_);
+    options_.addFlag("draw",
+                     "with --flow: the slab drawn instead, at 1280x720 in the lava look on the "
+                     "Vulkan device: ms a frame with it and with its slots empty (the molten "
+                     "surface's cost is the difference), medians of alternating frames",
+                     draw_);
     options_.add("json", "also write the results to FILE.json",
                  [this](const std::string& src, const std::string& t) {
                    checkOutputPath(src, t, ".json");
@@ -94,12 +101,14 @@ class BenchCommand final : public Command {
   int run() override {
     options_.resolve();
     if (point_ && !flow_) throw UsageError("--point: needs --flow (the flow's point burst)");
+    if (draw_ && !flow_) throw UsageError("--draw: needs --flow (the flow's slab, drawn)");
     if (options_.given("particles"))
       throw UsageError("--particles: bench sets the counts with --sizes (e.g. --sizes " +
                        options_.text("particles") + ")");
     Device context(deviceOptions(device_));
     const std::string device = context.properties().deviceName;
     const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    if (draw_) return runDraw(context, device);
     if (flow_) return runFlow(context, device, cores);
     std::printf(
         "bench: %s, %llu steps, %u steps per dispatch, %u CPU threads for -mt; "
@@ -201,6 +210,52 @@ class BenchCommand final : public Command {
         "pairs/st: neighbour pairs each step visits (both passes, counted at the start); "
         "ceiling: the density sum alone over neighbour lists made beforehand, on the same "
         "device (no grid, no sort, one pass); x real time: simulated seconds a second\n");
+    json << "\n  ]\n}\n";
+    if (!json_.empty()) host::writeFileAtomically(json_, json.str());
+    return finish(context, 0);
+  }
+
+  // --flow --draw: per size, the slab's frame and the empty frame, alternating, each the
+  // median of 9 (after one of each to warm up), at 1280x720; the renderer as the demo picks.
+  int runDraw(Device& context, const std::string& device) {
+    const std::vector<uint32_t> sizes =
+        options_.given("sizes") ? sizes_ : std::vector<uint32_t>{16384, 262144};
+    std::printf("bench --flow --draw: %s, a slab at rest at 1280x720, the lava look\n",
+                device.c_str());
+    std::printf("%10s %9s %12s %12s %12s\n", "particles", "renderer", "frame ms", "empty ms",
+                "surface ms");
+    std::ostringstream json;
+    json << "{\n  \"device\": \"" << device << "\",\n  \"draw\": [\n";
+    const OrbitCamera camera;
+    const host::OffscreenTarget target(context, {1280, 720});
+    for (uint32_t n : sizes) {
+      auto [scene, full] = flowSlab(scene_, n, point_);
+      State empty = full;
+      for (size_t i = 0; i < empty.particles.size(); ++i) {
+        empty.particles[i].age = -1.0f;
+        empty.temperature[i] = 0.0f;
+      }
+      GpuSimulation sim(context, scene);
+      host::FrameRenderer renderer(context, host::OffscreenTarget::kColorFormat);
+      const LineMode mode = n >= kSplatFrom ? LineMode::Splat : LineMode::Lines;
+      renderer.setLineMode(mode);
+      std::vector<double> times[2];
+      for (int k = 0; k < 20; ++k) {
+        const bool withSlab = k % 2 == 0;
+        sim.setState(withSlab ? full : empty);
+        const double seconds =
+            secondsOf([&] { host::renderOffscreen(context, renderer, sim, target, camera); });
+        if (k >= 2) times[withSlab ? 0 : 1].push_back(seconds * 1e3);
+      }
+      for (std::vector<double>& t : times) std::sort(t.begin(), t.end());
+      const double frame = times[0][times[0].size() / 2], none = times[1][times[1].size() / 2];
+      const char* name = mode == LineMode::Splat ? "splat" : "lines";
+      std::printf("%10u %9s %12.2f %12.2f %12.2f\n", n, name, frame, none, frame - none);
+      json << (n == sizes.front() ? "" : ",\n") << "    {\"particles\": " << n
+           << ", \"renderer\": \"" << name << "\", \"frame_ms\": " << frame
+           << ", \"empty_ms\": " << none << "}";
+    }
+    std::printf("frame: the slab drawn, read back included; empty: the same slots unborn\n");
     json << "\n  ]\n}\n";
     if (!json_.empty()) host::writeFileAtomically(json_, json.str());
     return finish(context, 0);
@@ -383,6 +438,7 @@ class BenchCommand final : public Command {
   std::string json_;
   bool flow_ = false;
   bool point_ = false;                             // --point
+  bool draw_ = false;                              // --draw
   std::string simdTarget_;                         // --simd-target ("": the best)
   std::map<std::string, double> computeCeilings_;  // per row kind
   Progress* progress_ = nullptr;                   // rows done, while run() runs

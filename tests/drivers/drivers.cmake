@@ -59,15 +59,17 @@ set(cases_SwiftShader --cases ${swiftshader_cases})
 string(JOIN ":" swiftshader_render RenderTest.LinesLeavingTheView* RenderTest.SplatAndPipeline*
             RenderTest.SplatDrawsLinesAcrossResolveTiles RenderTest.CachedBackdrop*)
 set(filter_SwiftShader
-    "${swiftshader_render}:LookTest.LinesAndSplatAgree:LookTest.SplatHidesWhatTheConeHides:EmbeddingDraw.*:-*Pairs*:*HostMemoryTarget*")
+    "${swiftshader_render}:LookTest.LinesAndSplatAgree:LookTest.SplatHidesWhatTheConeHides:LookTest.ASettledPoolIsOneContinuousSurface:LookTest.RockHidesSparksBehindIt:EmbeddingDraw.*:-*Pairs*:*HostMemoryTarget*")
 
 # How far each one's frames may stray from lavapipe 22.3's, "N:L" (at most N pixels differ by
 # more than L levels) for the splat, then the lines; docs/drivers.md gives the measurements
 # and the causes: line rasterization, and the backdrop's fragment shading, which Vulkan
 # does not define to the bit.
-set(frames_Minimal 0:0 0:0)
-set(frames_Lavapipe25 0:0 200:0)
-set(frames_SwiftShader 2000:2 8000:2)
+# The eruption's frames (its molten surface) take the volcano's: SwiftShader's differ in 780
+# and 2,099 pixels beyond 2 levels, the lines' as much as the volcano's (2026-12-07).
+set(frames_Minimal 0:0 0:0 0:0 0:0)
+set(frames_Lavapipe25 0:0 200:0 0:0 200:0)
+set(frames_SwiftShader 2000:2 8000:2 2000:2 8000:2)
 
 add_executable(lava_image_diff ${CMAKE_CURRENT_LIST_DIR}/image_diff.cpp)
 target_link_libraries(lava_image_diff PRIVATE lava_stb lava_warnings)
@@ -85,7 +87,8 @@ foreach(name ${LAVA_DRIVER_NAMES})
   set_tests_properties(Drivers.${name}.BuiltinSuite PROPERTIES ENVIRONMENT "${env}"
                        FIXTURES_SETUP hashes-${name} TIMEOUT 900 LABELS drivers)
   list(APPEND hashes ${out}/${name}.csv)
-  # Both renderers' frames of the volcano, to be compared with lavapipe 22.3's.
+  # Both renderers' frames of the volcano and of the eruption's molten surface, to be
+  # compared with lavapipe 22.3's.
   add_test(NAME Drivers.${name}.RenderBothRenderers
            COMMAND ${script} render $<TARGET_FILE:lava> ${PROJECT_SOURCE_DIR}/scenes
                    ${out}/frames-${name})

@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
 # The cross-driver checks of tests/drivers/CMakeLists.txt.
 #
-#   drivers_test.sh render LAVA SCENES OUT     the volcano, both renderers, into OUT/{lines,splat}
-#   drivers_test.sh compare DIFF BASE OTHER SPLAT LINES
-#                       OTHER's frames against BASE's (lavapipe 22.3's): at most SPLAT and
-#                       LINES pixels, each "N:L" (N pixels differing by more than L levels)
+#   drivers_test.sh render LAVA SCENES OUT     the volcano, both renderers, into OUT/{lines,splat};
+#                       the eruption at 3 s (the CPU reference stepping, the device drawing its
+#                       molten surface), both renderers, into OUT/eruption-{lines,splat}
+#   drivers_test.sh compare DIFF BASE OTHER SPLAT LINES ERUPTION-SPLAT ERUPTION-LINES
+#                       OTHER's frames against BASE's (lavapipe 22.3's): at most SPLAT, LINES
+#                       and the eruption's pixels, each "N:L" (N pixels differing by more than
+#                       L levels)
 #   drivers_test.sh hashes A.csv B.csv ...     every line of B.csv ... is one of A.csv's: the same
 #                       hashes of the builtin suite's cases each ran
 set -euo pipefail
@@ -17,12 +20,14 @@ case "$1" in
     for renderer in lines splat; do
       "$lava" render --scene "$scenes/volcano.toml" --frames 1 --warmup 2 --renderer "$renderer" \
               --out "$out/$renderer" >/dev/null
+      "$lava" render --scene "$scenes/eruption.toml" --frames 1 --warmup 3 --backend cpu \
+              --renderer "$renderer" --out "$out/eruption-$renderer" >/dev/null
     done
     ;;
   compare)
     diff=$2 base=$3 other=$4
     status=0
-    for check in "splat:$5" "lines:$6"; do
+    for check in "splat:$5" "lines:$6" "eruption-splat:$7" "eruption-lines:$8"; do
       IFS=: read -r renderer pixels levels <<< "$check"
       echo -n "$renderer (at most $pixels pixels beyond $levels levels): "
       "$diff" "$base/$renderer/frame_00000.png" "$other/$renderer/frame_00000.png" "$pixels" \

@@ -30,7 +30,7 @@ Backdrop::Backdrop(Device& device, const RenderFormats& formats)
   const detail::GraphicsPipelineDesc solids{LAVA_SPIRV(spirv::kGroundVertSpv),
                                             LAVA_SPIRV(spirv::kGroundFragSpv), formats};
   m.pipeline = detail::createGraphicsPipeline(m.c, m.layout, solids);
-  detail::GraphicsPipelineDesc sky{LAVA_SPIRV(spirv::kSkyVertSpv), LAVA_SPIRV(spirv::kLinesFragSpv),
+  detail::GraphicsPipelineDesc sky{LAVA_SPIRV(spirv::kSkyVertSpv), LAVA_SPIRV(spirv::kColorFragSpv),
                                    formats};
   sky.depthWrite = false;
   m.sky = detail::createGraphicsPipeline(m.c, m.layout, sky);

@@ -37,6 +37,8 @@ constexpr float kShortestLine = 1.25f;  // px: lava at rest stays visible
 // Particles the glow adds per frame at most: beyond, every stride-th, its energy times the
 // stride (the glow is a blur; a sample of its sources is enough).
 constexpr uint32_t kGlowSamples = 16384;
+// The share of the molten surface's light that feeds the glow (surface.comp).
+constexpr float kRockGlow = 0.3f;
 // The stages of the draws' layouts and push constants.
 constexpr VkShaderStageFlags kDrawStages =
     VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
@@ -72,6 +74,14 @@ struct GlowSlot {
   detail::UniqueBufferView lightTexels, sumTexels;  // if cellsAsTexels
 };
 
+// Per frame slot, what surface.comp's passes write (shared.h's surface).
+struct SurfaceSlot {
+  Buffer nearest, hottest, smoothed, marks;
+  detail::Image filtered;  // in GENERAL from the slot's first frame on
+};
+
+constexpr VkFormat kFilteredFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+
 }  // namespace
 
 struct LineRenderer::Impl {
@@ -81,13 +91,17 @@ struct LineRenderer::Impl {
   LookStyle style = LookStyle::Lava;
   LookSettings settings;
   detail::UniqueSampler nearest;
-  detail::UniqueDescriptorSetLayout lineSet, splatSet, glowSet, rockSet;
+  detail::UniqueDescriptorSetLayout lineSet, splatSet, glowSet, surfaceSet, surfaceDrawSet;
   detail::UniquePipelineLayout lineLayout, splatLayout, glowLayout;
-  detail::UniquePipelineLayout rockLayout;
-  detail::UniquePipeline rock;  // the flow as molten rock
+  detail::UniquePipelineLayout surfaceLayout, surfaceDrawLayout;
+  detail::UniquePipeline surfacePasses, surfaceDraw;  // the flow as one molten surface
   detail::UniquePipeline plainLines, lavaLines, splatPipeline;
   detail::UniquePipeline glowSplat;
   detail::Image noDepth;  // 1x1, bound when the splat is given no scene depth
+  // Bound where the lines (2x1) and the splat (a uint) test against no molten surface (never
+  // read).
+  detail::Image noSurface;
+  Buffer noNearest;
   // The pipelines that read the splat's sums (the resolve; the glow's quads, which may
   // resolve them too) or the glow's cells (its light pass, its quads), for each read through
   // a texel view (setExtent: where the target's fit in one) or as a storage buffer.
@@ -105,7 +119,7 @@ struct LineRenderer::Impl {
   // that reads the host's pass, which the host may destroy and remake at any resize.
   std::vector<std::unique_ptr<Sized>> sizedPipelines;
   const Sized* sized = nullptr;  // setExtent()'s
-  // Set-up recorded by the next recordPrepare(): noDepth's first layout, and the glow's
+  // Set-up recorded by the next recordPrepare(): noDepth's and noSurface's first layouts, the glow's
   // quad lists of new slots emptied (a frame's draw may come before any prepare has listed
   // its quads).
   bool depthPending = true;
@@ -122,6 +136,11 @@ struct LineRenderer::Impl {
   std::vector<detail::UniqueBufferView> accumulationTexels;
   std::vector<Buffer> marks;
   std::vector<GlowSlot> glow;
+  glm::uvec2 surfaceSize{0, 0};       // surface pixels across and down
+  glm::uvec2 surfaceTiles() const {   // their tiles (surface.vert's quads)
+    return (surfaceSize + gpu::kSurfaceTile - 1u) / gpu::kSurfaceTile;
+  }
+  std::vector<SurfaceSlot> surfaces;  // per frame slot, made by its first frame of a flow
   // setSceneDepth(true): the solids' depth per frame slot (made by the slot's first frame at
   // the extent), drawn by a depth-only pass of Lava's own, made on the first need.
   bool ownDepth = false;
@@ -149,8 +168,10 @@ struct LineRenderer::Impl {
                : d.buffer(binding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, accumulation[frame].get());
   }
 
-  // The lines' two pipelines and the rock's, for the host's target.
+  // The lines' two pipelines and the surface's draw, for the host's target.
   void createDrawPipelines(const RenderFormats& target);
+  // surface.comp's pipeline and layout.
+  void createSurfacePasses();
   // What recordPrepare owes since the last: the no-depth image's layout, the glow lists'
   // first clears.
   void recordPending(VkCommandBuffer commands);
@@ -168,9 +189,28 @@ struct LineRenderer::Impl {
   // and returns its view, in DEPTH_STENCIL_READ_ONLY_OPTIMAL and visible to compute reads.
   VkImageView recordSceneDepth(VkCommandBuffer commands, uint32_t frame,
                                const GpuSimulation& simulation, const View& view);
-  // The flow's molten rock under the lines, both renderers alike.
-  void recordRock(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
-                  const View& view) const;
+  // The flow's surface: slot `frame`'s buffers cleared (before the fills' barrier), then
+  // its passes (after it; the glow's cells gain the hot rock's light before its light
+  // pass); then, in the host's pass, its shading under the lines.
+  void recordSurfaceFills(VkCommandBuffer commands, uint32_t frame);
+  // Clears what the passes add into (the splat's sums and marks, the glow's cells and list,
+  // the surface's depths and heat), and the barrier to the passes.
+  void recordFills(VkCommandBuffer commands, uint32_t frame, bool splat, bool glowing, bool flow);
+  void recordSurfacePasses(VkCommandBuffer commands, uint32_t frame,
+                           const GpuSimulation& simulation, const View& view) const;
+  void recordSurfaceFilter(VkCommandBuffer commands, uint32_t frame,
+                           const GpuSimulation& simulation, const View& view) const;
+  void recordSurface(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
+                     const View& view) const;
+  gpu::SurfaceParams surfaceParams(const GpuSimulation& simulation, const View& view,
+                                   uint32_t pass) const;
+  // What the lines test against: slot `frame`'s surface, if it has one (`drawn`), its nearest
+  // depths (the splat's) and filtered image (the lines'), and its size and margin
+  // (DrawParams.surface; 0 for none).
+  bool drawn(uint32_t frame, const GpuSimulation& simulation) const;
+  glm::vec4 surfaceTest(uint32_t frame, const GpuSimulation& simulation) const;
+  void bindSurface(VkCommandBuffer commands, uint32_t frame,
+                   const GpuSimulation& simulation) const;
   void recordSplat(VkCommandBuffer commands, uint32_t frame, const GpuSimulation& simulation,
                    const View& view, VkImageView depth) const;
   void bindGlow(VkCommandBuffer commands, uint32_t frame, VkBufferView particles,
@@ -182,8 +222,8 @@ struct LineRenderer::Impl {
 };
 
 void LineRenderer::Impl::createDrawPipelines(const RenderFormats& target) {
-  lineSet = detail::createSetLayout(c, {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
-                                    VK_SHADER_STAGE_VERTEX_BIT);
+  lineSet = detail::createSetLayout(
+      c, {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, kDrawStages);
   lineLayout = detail::createPipelineLayout(c, lineSet, kDrawStages, sizeof(gpu::DrawParams));
   detail::GraphicsPipelineDesc lines{LAVA_SPIRV(spirv::kLinesVertSpv),
                                      LAVA_SPIRV(spirv::kLinesFragSpv), target};
@@ -195,15 +235,29 @@ void LineRenderer::Impl::createDrawPipelines(const RenderFormats& target) {
   lines.screen = true;
   lavaLines = detail::createGraphicsPipeline(c, lineLayout, lines);
 
-  rockSet = detail::createSetLayout(
-      c, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-      VK_SHADER_STAGE_VERTEX_BIT);
-  rockLayout = detail::createPipelineLayout(c, rockSet, kDrawStages, sizeof(gpu::RockParams));
-  detail::GraphicsPipelineDesc rockDesc{LAVA_SPIRV(spirv::kRockVertSpv),
-                                        LAVA_SPIRV(spirv::kRockFragSpv), target};
-  rockDesc.over = true;
-  rockDesc.depthWrite = false;  // the host's depth may be read-only; the discs are soft anyway
-  rock = detail::createGraphicsPipeline(c, rockLayout, rockDesc);
+  surfaceDrawSet = detail::createSetLayout(
+      c, {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, kDrawStages);
+  surfaceDrawLayout = detail::createPipelineLayout(c, surfaceDrawSet, kDrawStages,
+                                                   sizeof(gpu::SurfaceParams));
+  detail::GraphicsPipelineDesc surface{LAVA_SPIRV(spirv::kSurfaceVertSpv),
+                                       LAVA_SPIRV(spirv::kSurfaceFragSpv), target};
+  surface.over = true;
+  surface.depthWrite = false;  // the host's depth may be read-only; tested against it only
+  surfaceDraw = detail::createGraphicsPipeline(c, surfaceDrawLayout, surface);
+}
+
+void LineRenderer::Impl::createSurfacePasses() {
+  surfaceSet = detail::createSetLayout(
+      c,
+      {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+       VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+       VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+       VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+      VK_SHADER_STAGE_COMPUTE_BIT);
+  surfaceLayout = detail::createPipelineLayout(c, surfaceSet, VK_SHADER_STAGE_COMPUTE_BIT,
+                                               sizeof(gpu::SurfaceParams));
+  surfacePasses = detail::createComputePipeline(
+      c, surfaceLayout, LAVA_SPIRV(spirv::kSurfaceCompSpv), {gpu::kWorkgroupSize});
 }
 
 LineRenderer::LineRenderer(Device& device, const RenderFormats& formats)
@@ -211,12 +265,14 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats)
   Impl& m = *impl_;
   const detail::DeviceContext& c = m.c;
   detail::checkTarget(c, formats);
-  m.createDrawPipelines(formats);
   m.nearest = detail::createSampler(c, VK_FILTER_NEAREST);
+  m.createDrawPipelines(formats);
+  m.createSurfacePasses();
   m.splatSet = detail::createSetLayout(
       c,
       {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-       VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+       VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+       VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
       VK_SHADER_STAGE_COMPUTE_BIT, m.nearest);
   m.splatLayout = detail::createPipelineLayout(c, m.splatSet, VK_SHADER_STAGE_COMPUTE_BIT,
                                                sizeof(gpu::SplatParams));
@@ -236,6 +292,9 @@ LineRenderer::LineRenderer(Device& device, const RenderFormats& formats)
   m.glowSplat = detail::createComputePipeline(c, m.glowLayout, LAVA_SPIRV(spirv::kGlowSplatSpv),
                                               {gpu::kWorkgroupSize});
 
+  m.noNearest = Buffer(c, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, detail::MemoryUse::Device);
+  m.noSurface = detail::createImage(c, {2, 1}, kFilteredFormat, VK_IMAGE_USAGE_STORAGE_BIT,
+                                    VK_IMAGE_ASPECT_COLOR_BIT);
   m.noDepth =
       detail::createImage(c, {1, 1}, VK_FORMAT_D32_SFLOAT,
                           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
@@ -434,7 +493,10 @@ void LineRenderer::setExtent(VkExtent2D extent) {
   m.accumulation.clear();
   m.marks.clear();
   m.glow.clear();
+  m.surfaces.clear();
   m.listsPending.clear();
+  m.surfaceSize = {(extent.width + gpu::kSurfaceScale - 1) / gpu::kSurfaceScale,
+                   (extent.height + gpu::kSurfaceScale - 1) / gpu::kSurfaceScale};
   m.grid = {(extent.width + gpu::kGlowCell - 1) / gpu::kGlowCell,
             (extent.height + gpu::kGlowCell - 1) / gpu::kGlowCell};
   const VkDeviceSize cells = VkDeviceSize{m.grid.x} * m.grid.y;
@@ -519,31 +581,143 @@ gpu::GlowParams glowParams(const GpuSimulation& simulation, const View& view,
 
 }  // namespace
 
-void LineRenderer::Impl::recordRock(VkCommandBuffer commands, uint32_t frame,
-                                    const GpuSimulation& simulation, const View& view) const {
-  const GpuSimulation::FlowBuffers flow = simulation.flowBuffers();
-  if (flow.slots == 0) return;
-  const Scene& scene = simulation.scene();
-  float spacing = scene.flow->radius * 0.5f;  // the first flow emitter's rest spacing
+namespace {
+
+// The first flow emitter's rest spacing (m).
+float restSpacing(const Scene& scene) {
   for (const Emitter& e : scene.emitters)
-    if (e.flow) {
-      spacing = std::cbrt(e.mass / scene.flow->density);
-      break;
-    }
-  gpu::RockParams params{};
-  params.viewProj = glm::make_mat4(view.viewProj.m);
-  // Discs 1.2 rest spacings across their opaque core: a settled pool shows no gaps.
-  params.heat = {scene.flow->solidus, scene.flow->temperature, scene.flow->ambient, 1.2f * spacing};
-  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, rock);
-  detail::Descriptors()
-      .buffer(gpu::kRockParticleBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, flow.particles)
-      .buffer(gpu::kRockHeatBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, flow.heat)
-      .bind(c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, rockLayout, rockSet, sets[frame]);
-  for (uint32_t phase : {gpu::kRockSolid, gpu::kRockLiquid}) {
-    params.draw.x = phase;
-    c.vk.CmdPushConstants(commands, rockLayout, kDrawStages, 0, sizeof(params), &params);
-    c.vk.CmdDraw(commands, 6, flow.slots, 0, 0);
+    if (e.flow) return std::cbrt(e.mass / scene.flow->density);
+  return scene.flow->radius * 0.5f;
+}
+
+}  // namespace
+
+bool LineRenderer::Impl::drawn(uint32_t frame, const GpuSimulation& simulation) const {
+  return simulation.flowBuffers().slots > 0 && frame < surfaces.size();
+}
+
+glm::vec4 LineRenderer::Impl::surfaceTest(uint32_t frame, const GpuSimulation& simulation) const {
+  if (!drawn(frame, simulation)) return glm::vec4(0.0f);
+  // A spark within a sphere and a half of the surface's front is not behind it.
+  return {float(surfaceSize.x), float(surfaceSize.y), 1.5f * restSpacing(simulation.scene()),
+          0.0f};
+}
+
+gpu::SurfaceParams LineRenderer::Impl::surfaceParams(const GpuSimulation& simulation,
+                                                     const View& view, uint32_t pass) const {
+  const Scene& scene = simulation.scene();
+  const float spacing = restSpacing(scene);
+  gpu::SurfaceParams p{};
+  p.viewProj = glm::make_mat4(view.viewProj.m);
+  // Spheres one rest spacing in radius: neighbours overlap, and a settled layer has no gaps.
+  p.heat = {scene.flow->solidus, scene.flow->temperature, scene.flow->ambient, spacing};
+  const bool glowOn = style == LookStyle::Lava && settings.bloom > 0.0f;
+  // The glow's fixed point (glow.comp's kFixed) times the share of the rock's light that
+  // spreads: a pool is far larger than a spark, and all of its light would wash out the scene.
+  p.look = {settings.exposure, glowOn ? 256.0f * kRockGlow : 0.0f, spacing, 0.0f};
+  p.eye = {view.eye.x, view.eye.y, view.eye.z, 0.0f};
+  p.size = {surfaceSize.x, surfaceSize.y, pass, simulation.flowBuffers().slots};
+  return p;
+}
+
+void LineRenderer::Impl::recordSurfaceFills(VkCommandBuffer commands, uint32_t frame) {
+  if (surfaces.size() <= frame) surfaces.resize(frame + 1);
+  SurfaceSlot& slot = surfaces[frame];
+  const VkDeviceSize pixels = VkDeviceSize{surfaceSize.x} * surfaceSize.y;
+  const VkBufferUsageFlags use =
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  if (!slot.nearest.get()) {
+    slot.nearest = Buffer(c, pixels * sizeof(uint32_t), use, detail::MemoryUse::Device);
+    slot.hottest = Buffer(c, pixels * 4 * sizeof(uint32_t), use, detail::MemoryUse::Device);
+    slot.marks = Buffer(c, VkDeviceSize{surfaceTiles().x} * surfaceTiles().y * sizeof(uint32_t),
+                        use, detail::MemoryUse::Device);
+    slot.smoothed = Buffer(c, pixels * sizeof(gpu::SmoothPixel),
+                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, detail::MemoryUse::Device);
+    slot.filtered = detail::createImage(
+        c, {2 * surfaceSize.x, surfaceSize.y}, kFilteredFormat,
+        VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
+    // GENERAL for good: cleared, then the down pass writes it and the draws read it.
+    detail::imageBarrier(c, commands, slot.filtered.image, VK_IMAGE_ASPECT_COLOR_BIT,
+                         VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                         VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_ACCESS_TRANSFER_WRITE_BIT);
   }
+  // Empty where no sphere's tile is (the down pass writes the touched tiles only).
+  const VkClearColorValue empty{};
+  const VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  c.vk.CmdClearColorImage(commands, slot.filtered.image, VK_IMAGE_LAYOUT_GENERAL, &empty, 1, &all);
+  c.vk.CmdFillBuffer(commands, slot.nearest.get(), 0, VK_WHOLE_SIZE, gpu::kSurfaceEmpty);
+  c.vk.CmdFillBuffer(commands, slot.hottest.get(), 0, VK_WHOLE_SIZE, 0);
+  c.vk.CmdFillBuffer(commands, slot.marks.get(), 0, VK_WHOLE_SIZE, 0);
+}
+
+void LineRenderer::Impl::bindSurface(VkCommandBuffer commands, uint32_t frame,
+                                     const GpuSimulation& simulation) const {
+  const GpuSimulation::FlowBuffers flow = simulation.flowBuffers();
+  const SurfaceSlot& slot = surfaces[frame];
+  constexpr VkDescriptorType kStorage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, surfacePasses);
+  detail::Descriptors()
+      .buffer(gpu::kSurfaceParticleBinding, kStorage, flow.particles)
+      .buffer(gpu::kSurfaceHeatBinding, kStorage, flow.heat)
+      .buffer(gpu::kSurfaceDepthBinding, kStorage, slot.nearest.get())
+      .buffer(gpu::kSurfaceHottestBinding, kStorage, slot.hottest.get())
+      .buffer(gpu::kSurfaceSmoothBinding, kStorage, slot.smoothed.get())
+      .buffer(gpu::kSurfaceGlowBinding, kStorage, glow[frame].sums.get())
+      .image(gpu::kSurfaceImageBinding, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, slot.filtered.view,
+             VK_IMAGE_LAYOUT_GENERAL)
+      .buffer(gpu::kSurfaceMarksBinding, kStorage, slot.marks.get())
+      .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, surfaceLayout, surfaceSet, sets[frame]);
+}
+
+void LineRenderer::Impl::recordSurfacePasses(VkCommandBuffer commands, uint32_t frame,
+                                             const GpuSimulation& simulation,
+                                             const View& view) const {
+  bindSurface(commands, frame, simulation);
+  const uint32_t slots = simulation.flowBuffers().slots;
+  for (const uint32_t pass : {gpu::kSurfacePassDepth, gpu::kSurfacePassHeat}) {
+    if (pass == gpu::kSurfacePassHeat)  // RAW: the heat pass reads the nearest depths
+      detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                            VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                            VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    const gpu::SurfaceParams params = surfaceParams(simulation, view, pass);
+    c.vk.CmdPushConstants(commands, surfaceLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
+                          &params);
+    c.vk.CmdDispatch(commands, detail::groupCount(slots, gpu::kWorkgroupSize), 1, 1);
+  }
+}
+
+void LineRenderer::Impl::recordSurfaceFilter(VkCommandBuffer commands, uint32_t frame,
+                                             const GpuSimulation& simulation,
+                                             const View& view) const {
+  bindSurface(commands, frame, simulation);  // the glow's light pass bound its own
+  const uint32_t tileCount = surfaceTiles().x * surfaceTiles().y;
+  for (const uint32_t pass : {gpu::kSurfacePassAcross, gpu::kSurfacePassDown}) {
+    if (pass == gpu::kSurfacePassDown)  // RAW: down reads what across wrote
+      detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                            VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                            VK_ACCESS_SHADER_READ_BIT);
+    const gpu::SurfaceParams params = surfaceParams(simulation, view, pass);
+    c.vk.CmdPushConstants(commands, surfaceLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(params),
+                          &params);
+    c.vk.CmdDispatch(commands, tileCount, 1, 1);  // a workgroup a tile
+  }
+}
+
+void LineRenderer::Impl::recordSurface(VkCommandBuffer commands, uint32_t frame,
+                                       const GpuSimulation& simulation, const View& view) const {
+  if (simulation.flowBuffers().slots == 0 || frame >= surfaces.size()) return;
+  const gpu::SurfaceParams params = surfaceParams(simulation, view, 0);
+  c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, surfaceDraw);
+  detail::Descriptors()
+      .image(gpu::kSurfaceDrawBinding, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+             surfaces[frame].filtered.view, VK_IMAGE_LAYOUT_GENERAL)
+      .buffer(gpu::kSurfaceDrawMarksBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+              surfaces[frame].marks.get())
+      .bind(c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, surfaceDrawLayout, surfaceDrawSet,
+            sets[frame]);
+  c.vk.CmdPushConstants(commands, surfaceDrawLayout, kDrawStages, 0, sizeof(params), &params);
+  c.vk.CmdDraw(commands, 6 * surfaceTiles().x * surfaceTiles().y, 1, 0, 0);
 }
 
 void LineRenderer::Impl::recordSplat(VkCommandBuffer commands, uint32_t frame,
@@ -553,6 +727,8 @@ void LineRenderer::Impl::recordSplat(VkCommandBuffer commands, uint32_t frame,
   c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, splatPipeline);
   gpu::SplatParams params = splatParams(simulation, view, style, settings);
   params.target.w = depth ? 1u : 0u;
+  const glm::vec4 surface = surfaceTest(frame, simulation);
+  params.look = {params.look.x, surface.x, surface.y, surface.z};
   for (const ParticleChunk& chunk : simulation.chunks()) {
     const std::vector<glm::uvec2> ranges = lineRanges(simulation.scene(), chunk);
     if (ranges.empty()) continue;
@@ -562,6 +738,8 @@ void LineRenderer::Impl::recordSplat(VkCommandBuffer commands, uint32_t frame,
         .image(gpu::kSplatDepthBinding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
                depth ? depth : noDepth.view.get(), VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL)
         .buffer(gpu::kSplatMarksBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, marks[frame].get())
+        .buffer(gpu::kSplatSurfaceBinding, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                drawn(frame, simulation) ? surfaces[frame].nearest.get() : noNearest.get())
         .bind(c, commands, VK_PIPELINE_BIND_POINT_COMPUTE, splatLayout, splatSet, sets[frame]);
     for (const glm::uvec2& r : ranges) {
       params.range.x = r.x;
@@ -630,6 +808,10 @@ void LineRenderer::Impl::recordPending(VkCommandBuffer commands) {
                          VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL,
                          VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                          VK_ACCESS_SHADER_READ_BIT);
+    detail::imageBarrier(c, commands, noSurface.image, VK_IMAGE_ASPECT_COLOR_BIT,
+                         VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                         VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                         VK_ACCESS_SHADER_READ_BIT);
     depthPending = false;
   }
   if (listsPending.empty()) return;
@@ -644,6 +826,27 @@ void LineRenderer::Impl::recordPending(VkCommandBuffer commands) {
   listsPending.clear();
 }
 
+void LineRenderer::Impl::recordFills(VkCommandBuffer commands, uint32_t frame, bool splat,
+                                     bool glowing, bool flow) {
+  if (splat) {
+    c.vk.CmdFillBuffer(commands, accumulation[frame].get(), 0, VK_WHOLE_SIZE, 0);
+    c.vk.CmdFillBuffer(commands, marks[frame].get(), 0, VK_WHOLE_SIZE, 0);
+  }
+  if (glowing) {
+    c.vk.CmdFillBuffer(commands, glow[frame].sums.get(), 0, VK_WHOLE_SIZE, 0);
+    // The list's draw arguments, no quads yet (a flow without sparks has no glow splat to
+    // reset them).
+    const uint32_t none[4] = {0, 1, 0, 0};
+    c.vk.CmdUpdateBuffer(commands, glow[frame].list.get(), 0, sizeof(none), none);
+  }
+  if (flow) recordSurfaceFills(commands, frame);
+  // RAW/WAW: splat.comp, glow.comp and surface.comp add atomically into the cleared sums,
+  // depths and heat (splat.comp marks tiles too).
+  detail::memoryBarrier(c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+}
+
 void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
                                  const GpuSimulation& simulation, const View& view,
                                  VkImageView depth) {
@@ -655,7 +858,8 @@ void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
   m.recordPending(commands);
   const bool splat = m.mode == LineMode::Splat;
   const bool glow = m.style == LookStyle::Lava && m.settings.bloom > 0.0f;
-  if ((splat || glow) &&
+  const bool flow = simulation.flowBuffers().slots > 0;
+  if ((splat || glow || flow) &&
       (view.extent.width != m.extent.width || view.extent.height != m.extent.height))
     throw InvalidArgument("view.extent", "differs from the renderer's setExtent() (" +
                                              std::to_string(m.extent.width) + "x" +
@@ -672,31 +876,26 @@ void LineRenderer::recordPrepare(VkCommandBuffer commands, uint32_t frame,
           VK_PIPELINE_STAGE_TRANSFER_BIT,
       VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
   m.sets[frame].reset();  // the slot's previous frame has finished
-  if (!splat && !glow) return;
-  if (splat) {
-    m.c.vk.CmdFillBuffer(commands, m.accumulation[frame].get(), 0, VK_WHOLE_SIZE, 0);
-    m.c.vk.CmdFillBuffer(commands, m.marks[frame].get(), 0, VK_WHOLE_SIZE, 0);
-  }
-  if (glow) m.c.vk.CmdFillBuffer(commands, m.glow[frame].sums.get(), 0, VK_WHOLE_SIZE, 0);
-  // RAW/WAW: splat.comp and glow.comp add atomically into the cleared sums (splat.comp
-  // marks tiles too).
-  detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  if (!splat && !glow && !flow) return;
+  m.recordFills(commands, frame, splat, glow, flow);
   if (splat && !depth && m.ownDepth) depth = m.recordSceneDepth(commands, frame, simulation, view);
+  const gpu::GlowParams params = glowParams(simulation, view, m.settings, m.grid);
+  if (glow) m.recordGlow(commands, frame, simulation, params);
+  if (flow) m.recordSurfacePasses(commands, frame, simulation, view);
+  // After the surface's depth pass and the barrier behind it: the splat leaves out the lines
+  // behind the rock.
   if (splat) m.recordSplat(commands, frame, simulation, view, depth);
-  if (glow) {
-    const gpu::GlowParams params = glowParams(simulation, view, m.settings, m.grid);
-    m.recordGlow(commands, frame, simulation, params);
-    // RAW: the light pass reads the cells the splat added; it counts into the list's
-    // arguments the splat reset.
+  // RAW: the light pass reads the cells the splats added; it counts into the list's
+  // arguments. The surface's filter reads its depths and heat.
+  if (glow || flow)
     detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                           VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                           VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-    m.recordGlowLight(commands, frame, simulation, params, splat);  // the glow resolves the splat
-  }
+  if (glow) m.recordGlowLight(commands, frame, simulation, params, splat);  // resolves the splat
+  if (flow) m.recordSurfaceFilter(commands, frame, simulation, view);
   // RAW: resolve.vert reads the marks, resolve.frag the splat's sums; the glow's draw reads
-  // the list (its arguments too) and the light (and the splat's sums, when it resolves them).
+  // the list (its arguments too) and the light (and the splat's sums, when it resolves them);
+  // surface.frag the filtered surface.
   detail::memoryBarrier(m.c, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                         VK_ACCESS_SHADER_WRITE_BIT,
                         VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
@@ -715,7 +914,7 @@ void LineRenderer::recordDraw(VkCommandBuffer commands, uint32_t frame,
   const bool lava = m.style == LookStyle::Lava;
   const bool glow = lava && m.settings.bloom > 0.0f;
   const bool splat = m.mode == LineMode::Splat;
-  m.recordRock(commands, frame, simulation, view);
+  m.recordSurface(commands, frame, simulation, view);
   // The lines: the graphics pipeline's, or the splat's sums resolved over its marked tiles.
   // With the glow on, the glow's quads resolve the sums instead (below), in their own pass:
   // one blend a pixel where two passes would take two.
@@ -744,6 +943,7 @@ void LineRenderer::Impl::recordLines(VkCommandBuffer commands, uint32_t frame,
   params.style = detail::lineStyle(simulation.scene(), style);
   params.target = {float(view.extent.width), float(view.extent.height), settings.exposure,
                    kShortestLine};
+  params.surface = surfaceTest(frame, simulation);
   c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS,
                        style == LookStyle::Lava ? lavaLines : plainLines);
   c.vk.CmdPushConstants(commands, lineLayout, kDrawStages, 0, sizeof(params), &params);
@@ -752,6 +952,9 @@ void LineRenderer::Impl::recordLines(VkCommandBuffer commands, uint32_t frame,
     if (ranges.empty()) continue;
     detail::Descriptors()
         .texels(gpu::kParticleBinding, chunk.texels)
+        .image(gpu::kLineSurfaceBinding, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+               drawn(frame, simulation) ? surfaces[frame].filtered.view : noSurface.view,
+               VK_IMAGE_LAYOUT_GENERAL)
         .bind(c, commands, VK_PIPELINE_BIND_POINT_GRAPHICS, lineLayout, lineSet, sets[frame]);
     for (const glm::uvec2& r : ranges) c.vk.CmdDraw(commands, 2 * (r.y - r.x), 1, 2 * r.x, 0);
   }

@@ -91,6 +91,7 @@ namespace lava::detail {
   X(CmdPipelineBarrier)           \
   X(CmdCopyBuffer)                \
   X(CmdFillBuffer)                \
+  X(CmdClearColorImage)           \
   X(CmdUpdateBuffer)              \
   X(CmdDraw)                      \
   X(CmdDrawIndirect)              \

@@ -4,6 +4,7 @@
 #include <cstdint>
 
 namespace lava::spirv {
+#include "color_frag.h"
 #include "copy_comp.h"
 #include "flow_comp.h"
 #include "flow_pairs.h"
@@ -25,8 +26,6 @@ namespace lava::spirv {
 #include "resolve_buffer_frag.h"
 #include "resolve_frag.h"
 #include "resolve_vert.h"
-#include "rock_frag.h"
-#include "rock_vert.h"
 #include "sky_vert.h"
 #include "splat_comp.h"
 #include "splat_pairs.h"
@@ -35,4 +34,7 @@ namespace lava::spirv {
 #include "step_plain.h"
 #include "step_rte.h"
 #include "step_signed_zero.h"
+#include "surface_comp.h"
+#include "surface_frag.h"
+#include "surface_vert.h"
 }  // namespace lava::spirv

@@ -1,0 +1,5 @@
+#version 460
+// The interpolated colour, as it is: the sky's bands.
+layout(location = 0) in vec4 color;
+layout(location = 0) out vec4 outColor;
+void main() { outColor = color; }
