@@ -5,7 +5,9 @@
 // Lava's splat tests against it outside the passes; the lines and glow draw in the second.
 // The device is created without dynamic rendering: nothing here needs it.
 //
-//   lava_renderpass [frames]   (0 or none: until the window closes)
+//   lava_renderpass [frames [scene]]   (frames 0 or none: until the window closes; scene a
+//                                      preset's name, volcano.toml by default: eruption.toml
+//                                      draws the flow's molten surface in the same passes)
 //
 // Exits 0 when the state equals Lava's CPU reference bit for bit and the validation layer
 // (with synchronization validation, when installed) said nothing. The host's own Vulkan is
@@ -213,9 +215,9 @@ struct Lava {
   lava::LineRenderer lines;
   uint64_t steps = 0;
 
-  Lava(const lava::DeviceHandles& handles, const Swapchain& swapchain)
+  Lava(const lava::DeviceHandles& handles, const Swapchain& swapchain, const std::string& preset)
       : device(handles),
-        scene(lava::loadScene(std::string(LAVA_SCENES_DIR) + "/volcano.toml")),
+        scene(lava::loadScene(std::string(LAVA_SCENES_DIR) + "/" + preset)),
         simulation(device, scene),
         backdrop(device, {kColor, kDepth, swapchain.passes[0], 0}),
         lines(device, {kColor, kDepth, swapchain.passes[1], 0}) {
@@ -250,11 +252,12 @@ void rebuild(Swapchain& swapchain, Lava& lava, GLFWwindow* window) {
 
 // `frames` frames (0: until the window closes), resized as the window is; then the state
 // against the CPU reference. 0 when they are equal bit for bit.
-int drawFrames(const vkhost::Device& vk, Swapchain& swapchain, GLFWwindow* window, int frames) {
+int drawFrames(const vkhost::Device& vk, Swapchain& swapchain, GLFWwindow* window, int frames,
+               const std::string& preset) {
   constexpr uint32_t kFramesInFlight = 2;  // the host's: a command buffer, fence, semaphore each
   lava::DeviceHandles handles = vk.handles;
   handles.framesInFlight = kFramesInFlight;
-  Lava lava(handles, swapchain);
+  Lava lava(handles, swapchain, preset);
   vkhost::Frames slots(vk.handles, kFramesInFlight);
   VkSemaphore acquired[kFramesInFlight];
   for (VkSemaphore& semaphore : acquired) {
@@ -324,7 +327,7 @@ vkhost::DeviceOptions windowDevice() {
   return options;
 }
 
-int run(int frames) {
+int run(int frames, const std::string& preset) {
   if (!glfwInit()) throw std::runtime_error("no display for GLFW");
   glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
   GLFWwindow* window = glfwCreateWindow(640, 360, "Lava in render passes", nullptr, nullptr);
@@ -340,7 +343,8 @@ int run(int frames) {
         surface,
         {createRenderPass(vk.handles.device, false), createRenderPass(vk.handles.device, true)}};
     swapchain.create(window);
-    status = drawFrames(vk, swapchain, window, frames);  // Lava's objects gone before the host's
+    // Lava's objects gone before the host's.
+    status = drawFrames(vk, swapchain, window, frames, preset);
     swapchain.destroy();
     for (VkRenderPass pass : swapchain.passes)
       vkDestroyRenderPass(vk.handles.device, pass, nullptr);
@@ -359,7 +363,7 @@ int run(int frames) {
 
 int main(int argc, char** argv) {
   try {
-    return run(argc > 1 ? std::atoi(argv[1]) : 0);
+    return run(argc > 1 ? std::atoi(argv[1]) : 0, argc > 2 ? argv[2] : "volcano.toml");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "renderpass: %s\n", e.what());
     return 1;
