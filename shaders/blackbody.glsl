@@ -31,7 +31,8 @@ const vec3 kBlackbody[kBlackbodyEntries] = vec3[](
     vec3(6.013441, 2.771356, 0.000000),  // 1650 K
     vec3(6.955987, 3.301737, 0.000000));  // 1700 K
 
-// Emission energy at `t` kelvin: the table, linearly between entries; 0 below its first.
+// Emission energy at `t` kelvin: the table, linearly between entries; its first entry
+// (a ten-thousandth of a glow) below it, its last above.
 vec3 blackbody(float t) {
   float u = clamp((t - kBlackbodyFirst) / kBlackbodyStep, 0.0, float(kBlackbodyEntries - 1));
   int i = min(int(u), kBlackbodyEntries - 2);

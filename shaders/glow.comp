@@ -175,7 +175,7 @@ void lightTile() {
       lit = lit || visible[b.y * kCells + b.x] > kVisible;
     }
     if (!lit && !(kResolves && marked(q))) continue;
-    uint slot = atomicAdd(vertexCount, 6u) / 6u;  // the splat pass reset it
+    uint slot = atomicAdd(vertexCount, 6u) / 6u;  // recordPrepare's fills reset it
     quads[slot] = uint(q.y) * (g.grid.x + 1u) + uint(q.x);
   }
 }

@@ -264,10 +264,10 @@ struct FlowStepParams {
 // The flow drawn as one molten surface (surface.comp, surface.vert / surface.frag), at one
 // surface pixel per kSurfaceScale x kSurfaceScale pixels of the target. surface.comp's passes:
 // - depth: each alive flow slot a sphere; each surface pixel keeps the nearest depth (clip w,
-//   its float bits' atomicMin: the same on any order) and the hot liquid adds its light to the
-//   glow's cells;
+//   its float bits' atomicMin: the same on any order), and the tiles it touches are marked;
 // - heat: the spheres within three radii behind a pixel's nearest keep the hottest liquid
-//   and the hottest solid there, and the nearest liquid (atomicMax of their bits);
+//   and the hottest solid there, and the nearest liquid (atomicMax of their bits); the hot
+//   liquid at the surface adds its light to the glow's cells;
 // - across, down: a bilateral filter of the depth (neighbours at other depths weigh
 //   nothing, so edges stay sharp) and of the heat, across then down.
 // surface.frag shades the result over the host's target, depth-tested against its depth.
@@ -308,8 +308,9 @@ struct SmoothPixel {
 struct SurfaceParams {
   mat4 viewProj;  // as DrawParams
   vec4 heat;      // x solidus, y the eruption's temperature, z ambient (K), w sphere radius (m)
-  vec4 look;      // x exposure, y the glow's energy scale (0: no glow), z the rest spacing (m)
-  vec4 eye;       // xyz the camera (m)
+  vec4 look;      // x exposure, y the glow's energy scale (0: no glow), z the rest spacing (m),
+                  // w the target's height (pixels)
+  vec4 eye;       // xyz the camera (m), w the target's width (pixels)
   uvec4 size;     // x, y surface pixels across and down, z the pass, w flow slots
 };
 

@@ -48,6 +48,17 @@ const float kMostPixels = 24.0;
 // The filter's half width, at most (surface pixels).
 const int kMostTaps = 6;
 
+vec2 targetSize() {
+  return vec2(s.eye.w, s.look.w);
+}
+
+// Surface pixels a metre spans at depth w (square pixels: |row 1| * height / (2 w) target
+// pixels).
+float pixelsPerMetre(float w) {
+  float focal = length(vec3(s.viewProj[0][1], s.viewProj[1][1], s.viewProj[2][1]));
+  return focal * 0.5 * s.look.w / (w * float(kSurfaceScale));
+}
+
 // Where sphere `i` falls: its centre (surface pixels), radius (surface pixels) and depth.
 bool footprint(uint i, out vec2 centre, out float radius, out float w) {
   vec4 clip = s.viewProj * vec4(particles[i].posAge.xyz, 1.0);
@@ -55,12 +66,12 @@ bool footprint(uint i, out vec2 centre, out float radius, out float w) {
   centre = vec2(0.0);
   radius = 0.0;
   if (!(w > 2.0 * s.heat.w)) return false;  // behind or at the camera (NaN too)
-  vec2 size = vec2(s.size.xy);
-  centre = (clip.xy / w * 0.5 + 0.5) * size;
-  // Square pixels: one metre across at depth w is |row 1| * size.y / (2 w) pixels.
-  float focal = length(vec3(s.viewProj[0][1], s.viewProj[1][1], s.viewProj[2][1]));
-  radius = min(s.heat.w * focal * 0.5 * size.y / w, kMostPixels);
-  return all(greaterThan(centre + radius, vec2(0.0))) && all(lessThan(centre - radius, size));
+  // Target pixel p is surface pixel p / kSurfaceScale (an odd target's last surface pixel is
+  // half outside it).
+  centre = (clip.xy / w * 0.5 + 0.5) * targetSize() / float(kSurfaceScale);
+  radius = min(s.heat.w * pixelsPerMetre(w), kMostPixels);
+  return all(greaterThan(centre + radius, vec2(0.0))) &&
+         all(lessThan(centre - radius, vec2(s.size.xy)));
 }
 
 bool alive(uint i) {
@@ -102,7 +113,7 @@ void depthPass(uint i) {
 // its share of the surface one rest spacing square.
 void addGlow(vec2 centre, float radius, float temperature) {
   vec2 target = centre * float(kSurfaceScale);
-  uvec2 cells = (s.size.xy * kSurfaceScale + kGlowCell - 1u) / kGlowCell;
+  uvec2 cells = (uvec2(targetSize()) + kGlowCell - 1u) / kGlowCell;
   if (any(lessThan(target, vec2(0.0))) || any(greaterThanEqual(target, vec2(cells * kGlowCell))))
     return;
   float side = radius * float(kSurfaceScale) * (s.look.z / s.heat.w);
@@ -174,8 +185,7 @@ void filterPass(ivec2 p, bool down) {
   o.depthHeat = vec4(0.0);
   o.cover = vec4(0.0);
   if (z0 > 0.0) {
-    float focal = length(vec3(s.viewProj[0][1], s.viewProj[1][1], s.viewProj[2][1]));
-    float radius = s.heat.w * focal * 0.5 * float(s.size.y) / z0;  // a sphere, in pixels
+    float radius = s.heat.w * pixelsPerMetre(z0);  // a sphere, in pixels
     int taps = clamp(int(1.5 * radius + 0.5), 1, kMostTaps);
     float band = 2.0 * s.heat.w;
     ivec2 axis = down ? ivec2(0, 1) : ivec2(1, 0);

@@ -42,10 +42,10 @@ Basis basis() {
   return b;
 }
 
-// Where surface pixel coordinate `at` (fractional, in surface pixels) at depth z lies, in
-// the camera's basis.
+// Where surface pixel coordinate `at` (fractional, in surface pixels: target pixels over
+// kSurfaceScale) at depth z lies, in the camera's basis.
 vec3 viewPoint(vec2 at, float z, Basis b) {
-  vec2 ndc = at / vec2(s.size.xy) * 2.0 - 1.0;
+  vec2 ndc = at * float(kSurfaceScale) / vec2(s.eye.w, s.look.w) * 2.0 - 1.0;
   return vec3(ndc * z / b.focal, z);
 }
 
@@ -115,7 +115,7 @@ void main() {
   float rough = 0.75 + 0.5 * float(grain >> 24u) / 255.0;
   vec3 rock = kRock * rough * (0.35 + 0.65 * max(normal.y, 0.0)) + 0.2 * blackbody(ts);
   float beneath = liquid > 0.0 ? mix(ts, tl, min(1.0, 2.0 * liquid)) : ts;
-  float pixel = z / (b.focal.y * 0.5 * float(s.size.y));  // a surface pixel's size (m)
+  float pixel = z * float(kSurfaceScale) / (b.focal.y * 0.5 * s.look.w);  // a surface pixel (m)
   vec3 crust = mix(blackbody(beneath) * 1.2, rock, plates(world.xz, pixel / kCrackCell));
   vec3 energy = mix(molten, crust, crusted) * s.look.x;
   color = vec4(lavaToneMap(energy), 1.0);

@@ -36,7 +36,11 @@ struct RenderFormats {
 
 // What is drawn from where, into a target of which size.
 struct View {
-  Mat4 viewProj;            // world (m) to Vulkan clip space (y down, depth 0..1)
+  // World (m) to Vulkan clip space (y down, depth 0..1). The flow's molten surface reads the
+  // camera's axes and focal lengths from its rows: a rigid view under a symmetric, unskewed
+  // perspective (as OrbitCamera's); an off-centre or jittered projection misplaces its
+  // normals and depth.
+  Mat4 viewProj;
   VkExtent2D extent{0, 0};  // the target, in pixels: recordDraw sets viewport and scissor to it
   Vec3 eye;                 // the camera's position (m): walls are drawn from the front only
 };

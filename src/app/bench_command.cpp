@@ -228,7 +228,8 @@ class BenchCommand final : public Command {
     json << "{\n  \"device\": \"" << device << "\",\n  \"draw\": [\n";
     const OrbitCamera camera;
     const host::OffscreenTarget target(context, {1280, 720});
-    for (uint32_t n : sizes) {
+    for (size_t row = 0; row < sizes.size(); ++row) {
+      const uint32_t n = sizes[row];
       auto [scene, full] = flowSlab(scene_, n, point_);
       State empty = full;
       for (size_t i = 0; i < empty.particles.size(); ++i) {
@@ -251,7 +252,7 @@ class BenchCommand final : public Command {
       const double frame = times[0][times[0].size() / 2], none = times[1][times[1].size() / 2];
       const char* name = mode == LineMode::Splat ? "splat" : "lines";
       std::printf("%10u %9s %12.2f %12.2f %12.2f\n", n, name, frame, none, frame - none);
-      json << (n == sizes.front() ? "" : ",\n") << "    {\"particles\": " << n
+      json << (row == 0 ? "" : ",\n") << "    {\"particles\": " << n
            << ", \"renderer\": \"" << name << "\", \"frame_ms\": " << frame
            << ", \"empty_ms\": " << none << "}";
     }

@@ -3,13 +3,17 @@
 // (splat.comp adds every line into fixed-point planes the size of the target and marks the
 // tiles it added to; resolve.vert/.frag put the marked tiles over the scene);
 // in the lava look, then the glow (glow.comp over cells of the screen, glow.vert/.frag over
-// the lit cells only).
+// the lit cells only); the flow as one molten surface (surface.comp's passes,
+// surface.vert/.frag over the tiles it covers), under the lines.
 //
 // recordPrepare's passes: one barrier after the simulation; the fills of what the passes
-// add into (the splat's sums, the glow's cells); one barrier; splat.comp and the glow's
-// splat; one barrier; the glow's light and list; one barrier before the draw. Barriers
-// and dispatches are the fixed cost of a frame on a software device (each is a flush of
-// its threads), so there are no more than the data flow needs.
+// add into (the splat's sums, the glow's cells and list, the surface's depths, heat, tiles
+// and image); one barrier; the glow's splat and the surface's depths (with a flow: one
+// barrier, then its heat and splat.comp, which tests against those depths; without:
+// splat.comp); one barrier; the glow's light and list, the surface's filter across (one
+// barrier, then down); one barrier before the draw. Barriers and dispatches are the fixed
+// cost of a frame on a software device (each is a flush of its threads), so there are no
+// more than the data flow needs.
 #include "lava/renderer.h"
 
 #include <cmath>
@@ -50,7 +54,7 @@ VkDescriptorType readAs(bool texels) {
 }
 
 // The runs [x, y) of `chunk`'s particles (chunk-local) that no flow emitter owns: lines and
-// their glow are the sparks'; the flow is drawn as rock.
+// their glow are the sparks'; the flow is drawn as its molten surface.
 std::vector<glm::uvec2> lineRanges(const Scene& scene, const ParticleChunk& chunk) {
   std::vector<glm::uvec2> out;
   uint64_t first = 0;
@@ -593,7 +597,8 @@ float restSpacing(const Scene& scene) {
 }  // namespace
 
 bool LineRenderer::Impl::drawn(uint32_t frame, const GpuSimulation& simulation) const {
-  return simulation.flowBuffers().slots > 0 && frame < surfaces.size();
+  return simulation.flowBuffers().slots > 0 && frame < surfaces.size() &&
+         surfaces[frame].nearest.get() != VK_NULL_HANDLE;
 }
 
 glm::vec4 LineRenderer::Impl::surfaceTest(uint32_t frame, const GpuSimulation& simulation) const {
@@ -614,8 +619,9 @@ gpu::SurfaceParams LineRenderer::Impl::surfaceParams(const GpuSimulation& simula
   const bool glowOn = style == LookStyle::Lava && settings.bloom > 0.0f;
   // The glow's fixed point (glow.comp's kFixed) times the share of the rock's light that
   // spreads: a pool is far larger than a spark, and all of its light would wash out the scene.
-  p.look = {settings.exposure, glowOn ? 256.0f * kRockGlow : 0.0f, spacing, 0.0f};
-  p.eye = {view.eye.x, view.eye.y, view.eye.z, 0.0f};
+  p.look = {settings.exposure, glowOn ? 256.0f * kRockGlow : 0.0f, spacing,
+            float(view.extent.height)};
+  p.eye = {view.eye.x, view.eye.y, view.eye.z, float(view.extent.width)};
   p.size = {surfaceSize.x, surfaceSize.y, pass, simulation.flowBuffers().slots};
   return p;
 }
@@ -706,7 +712,7 @@ void LineRenderer::Impl::recordSurfaceFilter(VkCommandBuffer commands, uint32_t 
 
 void LineRenderer::Impl::recordSurface(VkCommandBuffer commands, uint32_t frame,
                                        const GpuSimulation& simulation, const View& view) const {
-  if (simulation.flowBuffers().slots == 0 || frame >= surfaces.size()) return;
+  if (!drawn(frame, simulation)) return;
   const gpu::SurfaceParams params = surfaceParams(simulation, view, 0);
   c.vk.CmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_GRAPHICS, surfaceDraw);
   detail::Descriptors()

@@ -119,11 +119,12 @@ VkDescriptorSet DescriptorArena::take(VkDescriptorSetLayout layout) {
     result = c_->vk.AllocateDescriptorSets(c_->device(), &alloc, &set);
   }
   if (result == VK_ERROR_OUT_OF_POOL_MEMORY || result == VK_ERROR_FRAGMENTED_POOL) {
-    const std::array<VkDescriptorPoolSize, 4> sizes{{
+    const std::array<VkDescriptorPoolSize, 5> sizes{{
         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 8 * kSetsPerPool},
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 8 * kSetsPerPool},
         {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 8 * kSetsPerPool},
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 8 * kSetsPerPool},
+        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 8 * kSetsPerPool},  // the molten surface's
     }};
     VkDescriptorPoolCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     info.maxSets = kSetsPerPool;

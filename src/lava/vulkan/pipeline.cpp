@@ -85,7 +85,7 @@ struct FixedStates {
 };
 
 // The colour attachment's blending: added (lines), screened (the lava look's lines), over
-// (premultiplied: the rock), or none.
+// (premultiplied; the molten surface, opaque), or none.
 VkPipelineColorBlendAttachmentState blending(const GraphicsPipelineDesc& desc) {
   VkPipelineColorBlendAttachmentState blend{};
   blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
