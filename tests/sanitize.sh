@@ -59,6 +59,8 @@ long+='|^GpuTest\.(RandomScenes|BirthsOfManyEmitters)|^Effects/Modules\.Resume[^
 # limits' tests chunk as each vendor would) and the flow's standing boxes and tilted pool (its
 # grid, point burst and lattice tests run the same passes).
 long+='|^GpuTest\.ManyChunksPastTheStorageBufferRange|^GpuFlow\.(BoxesStanding|AReleasedPool)'
+# And the molten surface's looks but one: the same recording as the continuous pool's.
+long+='|^LookTest\.(HotLiquid|CrustIsDark|HotRockLights|SparksInFront|RockHides)'
 ASAN_OPTIONS=detect_leaks=0 ctest --test-dir build-asan --output-on-failure -j2 -LE program \
       -E "^(Drivers|$novulkan)\\.|$long"
 icd=$(sed -n 's/.*"library_path": *"\([^"]*\)".*/\1/p' \

@@ -59,14 +59,14 @@ set(cases_SwiftShader --cases ${swiftshader_cases})
 string(JOIN ":" swiftshader_render RenderTest.LinesLeavingTheView* RenderTest.SplatAndPipeline*
             RenderTest.SplatDrawsLinesAcrossResolveTiles RenderTest.CachedBackdrop*)
 set(filter_SwiftShader
-    "${swiftshader_render}:LookTest.LinesAndSplatAgree:LookTest.SplatHidesWhatTheConeHides:LookTest.ASettledPoolIsOneContinuousSurface:LookTest.RockHidesSparksBehindIt:EmbeddingDraw.*:-*Pairs*:*HostMemoryTarget*")
+    "${swiftshader_render}:LookTest.LinesAndSplatAgree:LookTest.SplatHidesWhatTheConeHides:LookTest.ASettledPoolIsOneContinuousSurface:EmbeddingDraw.*:-*Pairs*:*HostMemoryTarget*")
 
 # How far each one's frames may stray from lavapipe 22.3's, "N:L" (at most N pixels differ by
 # more than L levels) for the splat, then the lines; docs/drivers.md gives the measurements
 # and the causes: line rasterization, and the backdrop's fragment shading, which Vulkan
 # does not define to the bit.
-# The eruption's frames (its molten surface) take the volcano's: SwiftShader's differ in 780
-# and 2,099 pixels beyond 2 levels, the lines' as much as the volcano's (2026-12-07).
+# The eruption's frames (its molten surface, at 640x360) take the volcano's tolerances:
+# SwiftShader's differ in 822 and 1,487 of their 230,400 pixels beyond 2 levels (2026-12-07).
 set(frames_Minimal 0:0 0:0 0:0 0:0)
 set(frames_Lavapipe25 0:0 200:0 0:0 200:0)
 set(frames_SwiftShader 2000:2 8000:2 2000:2 8000:2)
