@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstring>
+#include <thread>
 #include <vector>
 
 #include "common/npy.h"
@@ -389,6 +391,28 @@ TEST(FlowImplicit, TheSolverKeyReadsBackAndBadValuesNameIt) {
   EXPECT_EQ(parseScene("[flow]\n", "t").flow->solver, FlowSolver::Explicit);  // the default
   test::expectThrowsWith<InvalidArgument>([] { parseScene("[flow]\nsolver = \"pbf\"\n", "t"); },
                                           "flow.solver: expected one of explicit, implicit");
+}
+
+// The flow's threads live as long as its stepper: each run calls every thread once, the
+// caller as thread 0, and returns only when all are done, run after run.
+TEST(FlowWorkers, EachRunCallsEveryThreadOnceAndWaitsForAllOfThem) {
+  for (unsigned threads : {1u, 2u, 5u}) {
+    detail::Workers workers(threads);
+    ASSERT_EQ(workers.size(), threads);
+    std::vector<int> calls(threads, 0);
+    std::vector<long> sums(threads, 0);
+    for (int run = 0; run < 2000; ++run) {
+      workers.run([&](unsigned t) {
+        ++calls[t];
+        if (run % 500 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        sums[t] += run;  // read by the caller after run returns
+      });
+      long total = 0;
+      for (long s : sums) total += s;
+      ASSERT_EQ(total, long(threads) * (long(run) * (run + 1) / 2)) << threads << " " << run;
+    }
+    EXPECT_EQ(calls, std::vector<int>(threads, 2000)) << threads;
+  }
 }
 
 TEST(FlowImplicit, ThreadCountsGiveTheSameBytes) {

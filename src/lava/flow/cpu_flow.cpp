@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <thread>
 
 #include "flow/lattice.h"
 #include "flow/stepper-inl.h"
@@ -158,7 +157,7 @@ FlowStepper::FlowStepper(const Reference& reference, unsigned threads)
     : reference_(reference),
       contact_(reference.scene()),
       k_(flowConstants(reference.scene())),
-      threads_(std::max(threads, 1u)) {
+      workers_(std::max(threads, 1u)) {
   const Scene& s = reference.scene();
   contact_.restitution = s.flow->restitution;
   for (Collider& c : contact_.colliders) c.restitution = s.flow->restitution;

@@ -11,6 +11,7 @@
 #include "shared.h"
 #include "sim/emission.h"
 #include "internal.h"
+#include "flow/workers.h"
 
 namespace lava::detail {
 
@@ -146,7 +147,7 @@ class FlowStepper {
   const Reference& reference_;
   Scene contact_;  // the scene with the flow's restitution on the ground and every collider
   FlowConstants k_;
-  unsigned threads_;
+  mutable Workers workers_;  // the passes' threads, started once for the stepper's life
   std::vector<FlowWeights> weights_;
   std::vector<uint32_t> emitterOfSlot_;  // kNotFlow for slots of other emitters
   uint32_t buckets_ = 0;

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <thread>
 #include <vector>
 
 #include "flow.h"
@@ -151,18 +150,14 @@ void FlowStepper::neighbours(const State& state, size_t i, const Visit& visit) c
 // so the threads change no bit.
 template <class Body>
 void FlowStepper::parallel(size_t n, const Body& body) const {
-  const size_t threads = n < 2048 ? 1 : threads_;
+  const size_t threads = n < 2048 ? 1 : workers_.size();
   if (threads == 1) {
     for (size_t e = 0; e < n; ++e) body(e);
     return;
   }
-  std::vector<std::thread> workers;
-  for (size_t t = 1; t < threads; ++t)
-    workers.emplace_back([&, t] {
-      for (size_t e = n * t / threads; e < n * (t + 1) / threads; ++e) body(e);
-    });
-  for (size_t e = 0; e < n / threads; ++e) body(e);
-  for (std::thread& w : workers) w.join();
+  workers_.run([&](unsigned t) {
+    for (size_t e = n * t / threads; e < n * (t + 1) / threads; ++e) body(e);
+  });
 }
 
 }  // namespace lava::detail
