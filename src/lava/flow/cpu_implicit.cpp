@@ -180,7 +180,7 @@ void FlowStepper::substep(State& state, float fraction, uint32_t substeps) {
   }
   gatherNeighbours(state, hs);
   viscousSystem(state, hs, fraction);
-  solveViscosity(hs);
+  solveViscosity();
   const float invHs = ik_.invStep * float(substeps);
   solveDensity(state, hs, invHs);
   move(state, hs, fraction, invHs);
@@ -298,7 +298,7 @@ void FlowStepper::gatherNeighbours(const State& state, float hs) {
       mirrored(near, walls, d, k_.invRadius2, t2, diagonal, coupling);
       conductive = conductive + tiny(w.viscous * t2);
       touches = touches || (state.crust[j] != 0 && q < k_.touch2);
-      list[count++] = {g, t2, diagonal, coupling, stored(unit)};
+      list[count++] = {g, t2, diagonal, coupling, stored(unit), w.pressure, 0.0f};
     });
     theta = theta + (1.0f - open);
     grad = grad - slope;  // the solids' share of the gradient is -slope
@@ -337,6 +337,7 @@ void FlowStepper::viscousSystem(const State& state, float hs, float fraction) {
     Own& o = own_[f];
     const V v0 = velocity(f);
     v_[f] = stored(v0);
+    p_[f] = V3f{0.0f, 0.0f, 0.0f};  // a solid's direction stays 0: its pairs' products are 0
     if (!o.liquid) return;
     const Particle& p = state.particles[i];
     const size_t emitter = emitterOfSlot_[i];
@@ -346,11 +347,14 @@ void FlowStepper::viscousSystem(const State& state, float hs, float fraction) {
         v0 + (ek.hm * fraction) * Model::force<Modules::Any>(s, V{p.px, p.py, p.pz}, v0, ek.w));
     float sum = 0.0f;
     V fixed{0.0f, 0.0f, 0.0f}, pull{0.0f, 0.0f, 0.0f};
-    const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+    Pair* list = &pairs_[size_t(f) * kNeighbourCap];
     for (uint32_t k = 0; k < count_[f]; ++k) {
       const float a = viscousCoefficient(f, list[k].j, hs);
       sum = sum + a * list[k].diagonal;
-      const V term = tiny((a * list[k].coupling) * velocity(list[k].j));
+      const float coupling = a * list[k].coupling;
+      const V term = tiny(coupling * velocity(list[k].j));
+      // A solid neighbour's share is on the right side: 0 in the product (pull never -0).
+      list[k].viscous = own_[list[k].j].liquid ? coupling : 0.0f;
       if (own_[list[k].j].liquid)
         pull = pull + term;
       else
@@ -369,7 +373,7 @@ void FlowStepper::viscousSystem(const State& state, float hs, float fraction) {
 
 // The viscosity's CG, each component with its own alpha and beta, until its r.z is below
 // tolerance2 b.(b / D) or kViscousIterations.
-void FlowStepper::solveViscosity(float hs) {
+void FlowStepper::solveViscosity() {
   const size_t n = flowSlots_.size();
   const auto liquidTerm = [&](auto term) {
     return [this, term](size_t f) { return own_[f].liquid ? tiny(term(f)) : V{0, 0, 0}; };
@@ -388,9 +392,7 @@ void FlowStepper::solveViscosity(float hs) {
       V pull{0.0f, 0.0f, 0.0f};
       const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
       for (uint32_t c = 0; c < count_[f]; ++c)
-        if (own_[list[c].j].liquid)
-          pull = pull +
-                 tiny((viscousCoefficient(f, list[c].j, hs) * list[c].coupling) * of(p_[list[c].j]));
+        pull = pull + tiny(list[c].viscous * of(p_[list[c].j]));
       q_[f] = stored(tiny(o.diag * of(p_[f])) - pull);
     });
     const V pq = orderedSums(n, liquidTerm([&](size_t f) { return times(of(p_[f]), of(q_[f])); }));
@@ -436,7 +438,7 @@ float FlowStepper::rateOf(uint32_t f, const std::vector<V3f>& u) const {
   float rate = 0.0f;
   const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
   for (uint32_t c = 0; c < count_[f]; ++c)
-    rate = rate - tiny(pressureOf(list[c].j) * dot(of(list[c].e), uf - of(u[list[c].j])));
+    rate = rate - tiny(list[c].pressure * dot(of(list[c].e), uf - of(u[list[c].j])));
   return rate + tiny(dot(of(gradWall_[f]), uf));
 }
 
@@ -447,7 +449,7 @@ V3f FlowStepper::pushOf(uint32_t f, const std::vector<float>& m) const {
   V dv{0.0f, 0.0f, 0.0f};
   const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
   for (uint32_t c = 0; c < count_[f]; ++c)
-    dv = dv + tiny((m[f] * pressureOf(list[c].j) + m[list[c].j] * mine) * of(list[c].e));
+    dv = dv + tiny((m[f] * list[c].pressure + m[list[c].j] * mine) * of(list[c].e));
   return stored(dv - tiny(m[f] * of(gradWall_[f])));
 }
 

@@ -126,7 +126,7 @@ class FlowStepper {
   void substep(State& state, float fraction, uint32_t substeps);
   void gatherNeighbours(const State& state, float hs);
   void viscousSystem(const State& state, float hs, float fraction);
-  void solveViscosity(float hs);
+  void solveViscosity();
   // hs m_f viscous_j (nu_f + nu_j): times a pair's weights, its share of f's row.
   float viscousCoefficient(uint32_t f, uint32_t j, float hs) const;
   void densitySystem(const State& state, float hs, float invHs);
@@ -175,6 +175,8 @@ class FlowStepper {
     // moving at 2 friction - 1 times v_j): on i's diagonal, and on its coupling to j.
     float diagonal, coupling;
     V3f e;       // (1 - r/radius)^2 times the unit direction from j to i
+    float pressure;  // j's pressure weight
+    float viscous;   // its coupling times j's viscous coefficient (0 for a solid j): A's entry
   };
   std::vector<Pair> pairs_;           // kNeighbourCap per flow index
   std::vector<uint32_t> count_;       // per flow index: its pairs
