@@ -435,6 +435,16 @@ TEST(FlowImplicit, ACheckpointResumesBitForBitPressuresIncluded) {
   EXPECT_EQ(checkpointBytes(poolScene(10), plain).find("pressure.npy"), std::string::npos);
 }
 
+// Rock that cools solid against the ground while the pool above presses it: a solid's
+// multiplier must not outlive its liquid days (a resumed run starts without them).
+TEST(FlowImplicit, APoolThatCrustsUnderPressureResumesBitForBit) {
+  Scene s = implicitPool(300);
+  s.flow->coolingGround = 20.0f;
+  const Resumed r = resumedHalfway(s, 150);
+  ASSERT_NE(r.stopped.crust, std::vector<uint8_t>(r.stopped.crust.size(), 0)) << "it crusts";
+  EXPECT_EQ(stateHash(r.straight), stateHash(r.resumed));
+}
+
 TEST(FlowImplicit, TheSimdKernelGivesTheReferenceBytes) {
   const auto [scalar, simd] = scalarAndSimd(implicitPool(300), 200);
   EXPECT_EQ(stateHash(scalar), stateHash(simd));

@@ -477,8 +477,9 @@ void FlowStepper::densitySystem(const State& state, float hs, float invHs) {
     const uint32_t f = uint32_t(e);
     Own& o = own_[f];
     u_[f] = V3f{0.0f, 0.0f, 0.0f};
-    if (!o.liquid) {
+    if (!o.liquid) {  // its multiplier is read by its liquid neighbours' push: none
       o.active = 0;
+      lambda_[f] = 0.0f;
       return;
     }
     const float warm = state.pressure[flowSlots_[f]];
