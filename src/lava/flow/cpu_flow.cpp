@@ -187,6 +187,8 @@ FlowStepper::FlowStepper(const Reference& reference, unsigned threads)
     for (std::vector<float>* v : {&lambda_, &rhs_, &ar_, &az_, &ap_, &aq_}) v->resize(flow);
     u_.resize(flow);
     count_.resize(flow);
+    at_.resize(flow);
+    place_.resize(flow);
     for (std::vector<V3f>* v : {&gradWall_, &v_, &r_, &z_, &p_, &q_, &b_}) v->resize(flow);
   }
   cells_.resize(n);

@@ -60,16 +60,17 @@ float halving(float* s) {
   return s[0];
 }
 
-// The sum of term(f) over flow indices f < n as the GPU takes it: each block of kBlock
-// indices by halving; then invocation t of one workgroup adds the blocks t, t + kBlock, ...
-// in order, and those kBlock sums are halved.
+// The sum over flow indices f < n, in their order as the GPU takes it, of term(at[f]), at[f]
+// where f's values are stored: each block of kBlock indices by halving; then invocation t of
+// one workgroup adds the blocks t, t + kBlock, ... in order, and those kBlock sums are halved.
 template <class Term>
-float orderedSum(size_t n, const Term& term) {
-  const size_t blocks = (n + kBlock - 1) / kBlock;
+float orderedSum(const std::vector<uint32_t>& at, const Term& term) {
+  const size_t n = at.size(), blocks = (n + kBlock - 1) / kBlock;
   std::vector<float> partial(blocks);
   float s[kBlock];
   for (size_t b = 0; b < blocks; ++b) {
-    for (uint32_t t = 0; t < kBlock; ++t) s[t] = b * kBlock + t < n ? term(b * kBlock + t) : 0.0f;
+    for (uint32_t t = 0; t < kBlock; ++t)
+      s[t] = b * kBlock + t < n ? term(at[b * kBlock + t]) : 0.0f;
     partial[b] = halving(s);
   }
   for (uint32_t t = 0; t < kBlock; ++t) {
@@ -80,12 +81,25 @@ float orderedSum(size_t n, const Term& term) {
   return halving(s);
 }
 
-// The three components' sums of a per-flow-index vector term.
+// The three components' sums of a vector term.
 template <class Term>
-V orderedSums(size_t n, const Term& term) {
-  return {orderedSum(n, [&](size_t f) { return term(f).x; }),
-          orderedSum(n, [&](size_t f) { return term(f).y; }),
-          orderedSum(n, [&](size_t f) { return term(f).z; })};
+V orderedSums(const std::vector<uint32_t>& at, const Term& term) {
+  return {orderedSum(at, [&](size_t f) { return term(f).x; }),
+          orderedSum(at, [&](size_t f) { return term(f).y; }),
+          orderedSum(at, [&](size_t f) { return term(f).z; })};
+}
+
+// A cell's place on the Z-order curve (its coordinates' low 10 bits interleaved): cells near
+// each other are mostly near on it.
+uint32_t zOrder(const Cell& c) {
+  const auto spread = [](uint32_t v) {
+    v &= 1023u;
+    v = (v | (v << 16)) & 0x030000FFu;
+    v = (v | (v << 8)) & 0x0300F00Fu;
+    v = (v | (v << 4)) & 0x030C30C3u;
+    return (v | (v << 2)) & 0x09249249u;
+  };
+  return spread(uint32_t(c.x)) | (spread(uint32_t(c.y)) << 1) | (spread(uint32_t(c.z)) << 2);
 }
 
 // A solid near a particle: its distance (0 inside), its outward normal, its friction.
@@ -173,8 +187,9 @@ void FlowStepper::implicitStep(State& state) {
 void FlowStepper::substep(State& state, float fraction, uint32_t substeps) {
   const float hs = reference_.scene().h() * fraction;
   sort(state);
+  arrange();
   for (size_t f = 0; f < flowSlots_.size(); ++f) {
-    const uint32_t i = flowSlots_[f];
+    const uint32_t i = at_[f];
     Own& o = own_[f];
     o.liquid = !(state.particles[i].age < 0.0f) && state.crust[i] == 0 &&
                state.temperature[i] > k_.solidus;
@@ -186,6 +201,28 @@ void FlowStepper::substep(State& state, float fraction, uint32_t substeps) {
   const float invHs = ik_.invStep * float(substeps);
   solveDensity(state, hs, invHs);
   move(state, hs, fraction, invHs);
+}
+
+// Where the substep keeps each particle's values: the alive ones along the Z-order curve of
+// their cells (then by slot), the unborn after them by slot, so that a particle's neighbours'
+// values lie near each other in memory. Sums still run over flow indices in order.
+void FlowStepper::arrange() {
+  keys_.resize(sorted_.size());
+  for (size_t e = 0; e < sorted_.size(); ++e)
+    keys_[e] = (uint64_t(zOrder(cells_[sorted_[e]])) << 32) | sorted_[e];
+  std::sort(keys_.begin(), keys_.end());
+  for (const uint32_t i : flowSlots_) indexOf_[i] = kNotFlow;
+  uint32_t place = 0;
+  for (const uint64_t key : keys_) {
+    at_[place] = uint32_t(key);
+    indexOf_[uint32_t(key)] = place++;
+  }
+  for (const uint32_t i : flowSlots_)
+    if (indexOf_[i] == kNotFlow) {  // unborn
+      at_[place] = i;
+      indexOf_[i] = place++;
+    }
+  for (size_t f = 0; f < flowSlots_.size(); ++f) place_[f] = indexOf_[flowSlots_[f]];
 }
 
 // Calls visit(d, u, n, friction) for the ground and each collider within the radius of x: d
@@ -258,7 +295,7 @@ void FlowStepper::walls(float x, float y, float z, const Visit& visit) const {
 void FlowStepper::gatherNeighbours(const State& state, float hs) {
   const float conduction = hs * k_.conduction;
   parallel(sorted_.size(), [&](size_t e) {
-    const uint32_t i = sorted_[e], f = indexOf_[i];
+    const uint32_t f = uint32_t(e), i = at_[f];  // the alive particles come first
     const Particle& p = state.particles[i];
     Own& o = own_[f];
     // The solids near i: their density share, and its own images for the viscosity.
@@ -322,8 +359,8 @@ void FlowStepper::gatherNeighbours(const State& state, float hs) {
 // 2 hs m_i nu_i wallViscous_i, v* the start-of-substep velocity after the forces; solved by
 // CG from the start-of-substep velocities, each component on its own.
 float FlowStepper::viscousCoefficient(uint32_t f, uint32_t j, float hs) const {
-  const float hsm = hs * weights_[emitterOfSlot_[flowSlots_[f]]].volume;
-  return (hsm * weights_[emitterOfSlot_[flowSlots_[j]]].viscous) * (own_[f].nu + own_[j].nu);
+  const float hsm = hs * weights_[emitterOfSlot_[at_[f]]].volume;
+  return (hsm * weights_[emitterOfSlot_[at_[j]]].viscous) * (own_[f].nu + own_[j].nu);
 }
 
 // The viscosity's system: each liquid row's diagonal, right side b, and the CG's start from
@@ -331,11 +368,11 @@ float FlowStepper::viscousCoefficient(uint32_t f, uint32_t j, float hs) const {
 void FlowStepper::viscousSystem(const State& state, float hs, float fraction) {
   const Scene& s = reference_.scene();
   const auto velocity = [&](uint32_t f) {
-    const Particle& p = state.particles[flowSlots_[f]];
+    const Particle& p = state.particles[at_[f]];
     return V{p.vx, p.vy, p.vz};
   };
   parallel(flowSlots_.size(), [&](size_t e) {
-    const uint32_t f = uint32_t(e), i = flowSlots_[f];
+    const uint32_t f = uint32_t(e), i = at_[f];
     Own& o = own_[f];
     const V v0 = velocity(f);
     v_[f] = stored(v0);
@@ -380,8 +417,8 @@ void FlowStepper::solveViscosity() {
   const auto liquidTerm = [&](auto term) {
     return [this, term](size_t f) { return own_[f].liquid ? tiny(term(f)) : V{0, 0, 0}; };
   };
-  V rz = orderedSums(n, liquidTerm([&](size_t f) { return times(of(r_[f]), of(z_[f])); }));
-  const V bb = orderedSums(n, liquidTerm([&](size_t f) {
+  V rz = orderedSums(place_, liquidTerm([&](size_t f) { return times(of(r_[f]), of(z_[f])); }));
+  const V bb = orderedSums(place_, liquidTerm([&](size_t f) {
     return times(of(b_[f]), own_[f].invDiag * of(b_[f]));
   }));
   const V limit = ik_.tolerance2 * bb;
@@ -397,7 +434,7 @@ void FlowStepper::solveViscosity() {
         pull = pull + tiny(list[c].viscous * of(p_[list[c].j]));
       q_[f] = stored(tiny(o.diag * of(p_[f])) - pull);
     });
-    const V pq = orderedSums(n, liquidTerm([&](size_t f) { return times(of(p_[f]), of(q_[f])); }));
+    const V pq = orderedSums(place_, liquidTerm([&](size_t f) { return times(of(p_[f]), of(q_[f])); }));
     float alpha[3], beta[3];
     const float rzs[3] = {rz.x, rz.y, rz.z}, pqs[3] = {pq.x, pq.y, pq.z};
     for (int c = 0; c < 3; ++c) {
@@ -413,7 +450,7 @@ void FlowStepper::solveViscosity() {
       r_[f] = stored(r);
       z_[f] = stored(tiny(own_[f].invDiag * r));
     });
-    const V next = orderedSums(n, liquidTerm([&](size_t f) { return times(of(r_[f]), of(z_[f])); }));
+    const V next = orderedSums(place_, liquidTerm([&](size_t f) { return times(of(r_[f]), of(z_[f])); }));
     const float nexts[3] = {next.x, next.y, next.z}, limits[3] = {limit.x, limit.y, limit.z};
     float kept[3];
     for (int c = 0; c < 3; ++c) {
@@ -431,7 +468,7 @@ void FlowStepper::solveViscosity() {
 }
 
 float FlowStepper::pressureOf(uint32_t f) const {
-  return weights_[emitterOfSlot_[flowSlots_[f]]].pressure;
+  return weights_[emitterOfSlot_[at_[f]]].pressure;
 }
 
 // d theta_f / dt of velocities u: sum_j -pressure_j e_fj . (u_f - u_j) + gradWall . u_f.
@@ -482,7 +519,7 @@ void FlowStepper::densitySystem(const State& state, float hs, float invHs) {
       lambda_[f] = 0.0f;
       return;
     }
-    const float warm = state.pressure[flowSlots_[f]];
+    const float warm = state.pressure[at_[f]];
     // Compression beyond rest is undone in the substep; a sparser bulk is not pulled in.
     const float c = kCorrection * std::max(o.theta - 1.0f, 0.0f) + hs * rateOf(f, v_);
     rhs_[f] = c * invHs;
@@ -501,15 +538,15 @@ void FlowStepper::solveDensity(const State& state, float hs, float invHs) {
     az_[f] = o.active ? tiny((o.invG * hs) * ar_[f]) : 0.0f;
     ap_[f] = az_[f];
   });
-  float rz = orderedSum(n, [&](size_t f) { return tiny(ar_[f] * az_[f]); });
-  const float bb = orderedSum(n, [&](size_t f) {
+  float rz = orderedSum(place_, [&](size_t f) { return tiny(ar_[f] * az_[f]); });
+  const float bb = orderedSum(place_, [&](size_t f) {
     return own_[f].active ? tiny(rhs_[f] * ((own_[f].invG * hs) * rhs_[f])) : 0.0f;
   });
   const float limit = ik_.pressureTolerance2 * bb;
   bool active = rz > limit;
   for (uint32_t k = 0; k < kPressureIterations && active; ++k) {
     multiplyDensity(ap_, aq_);
-    const float pq = orderedSum(n, [&](size_t f) { return tiny(ap_[f] * aq_[f]); });
+    const float pq = orderedSum(place_, [&](size_t f) { return tiny(ap_[f] * aq_[f]); });
     if (!(pq > 0.0f)) break;
     const float alpha = rz * reciprocal(pq);
     parallel(n, [&](size_t f) {
@@ -518,7 +555,7 @@ void FlowStepper::solveDensity(const State& state, float hs, float invHs) {
       ar_[f] = ar_[f] - tiny(alpha * aq_[f]);
       az_[f] = tiny((own_[f].invG * hs) * ar_[f]);
     });
-    const float next = orderedSum(n, [&](size_t f) { return tiny(ar_[f] * az_[f]); });
+    const float next = orderedSum(place_, [&](size_t f) { return tiny(ar_[f] * az_[f]); });
     const float beta = next * reciprocal(rz);
     rz = next;
     active = next > limit;
@@ -538,11 +575,11 @@ void FlowStepper::solveDensity(const State& state, float hs, float invHs) {
 // kept neighbours, `conduction` = hs 2 conduction.
 float FlowStepper::conducted(const State& state, uint32_t f, float conduction) const {
   const std::vector<float>& temperature = state.temperature;
-  const uint32_t i = flowSlots_[f];
+  const uint32_t i = at_[f];
   float dT = 0.0f;
   const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
   for (uint32_t c = 0; c < count_[f]; ++c) {
-    const uint32_t j = flowSlots_[list[c].j];
+    const uint32_t j = at_[list[c].j];
     dT = dT + tiny(((weights_[emitterOfSlot_[j]].viscous * conduction) * list[c].t2) *
                    std::min(own_[f].conductive, own_[list[c].j].conductive) *
                    (temperature[j] - temperature[i]));
@@ -559,7 +596,7 @@ void FlowStepper::move(State& state, float hs, float fraction, float invHs) {
   const std::vector<float>& temperature = state.temperature;
   next_.resize(sorted_.size());
   parallel(sorted_.size(), [&](size_t e) {
-    const uint32_t i = sorted_[e], f = indexOf_[i];
+    const uint32_t f = uint32_t(e), i = at_[f];
     const Own& o = own_[f];
     const size_t emitter = emitterOfSlot_[i];
     const Particle& p = particles[i];
@@ -590,7 +627,7 @@ void FlowStepper::move(State& state, float hs, float fraction, float invHs) {
     pressure_[f] = o.liquid && !dies && !(age < 0.0f) ? o.total * invHs : 0.0f;
   });
   for (size_t e = 0; e < sorted_.size(); ++e) {
-    const uint32_t i = sorted_[e];
+    const uint32_t i = at_[e];
     particles[i] = next_[e].particle;
     state.temperature[i] = next_[e].temperature;
     state.crust[i] = next_[e].crust;

@@ -124,6 +124,7 @@ class FlowStepper {
   // The implicit flow (cpu_implicit.cpp): substeps of a fraction of the step each.
   void implicitStep(State& state);
   void substep(State& state, float fraction, uint32_t substeps);
+  void arrange();
   void gatherNeighbours(const State& state, float hs);
   void viscousSystem(const State& state, float hs, float fraction);
   void solveViscosity();
@@ -135,7 +136,7 @@ class FlowStepper {
   float conducted(const State& state, uint32_t f, float conduction) const;
   float rateOf(uint32_t f, const std::vector<V3f>& u) const;
   V3f pushOf(uint32_t f, const std::vector<float>& m) const;
-  float pressureOf(uint32_t f) const;  // flow index f's emitter's pressure weight
+  float pressureOf(uint32_t f) const;  // the pressure weight of the particle at place f
   void move(State& state, float hs, float fraction, float invHs);
   template <class Visit>
   void walls(float x, float y, float z, const Visit& visit) const;
@@ -165,11 +166,15 @@ class FlowStepper {
   };
   std::vector<Next> next_;  // the step's results, in sorted order, written back at its end
 
-  // The implicit flow's, per slot unless named per flow index.
+  // The implicit flow's, per slot unless named per flow index or place.
   ImplicitConstants ik_{};
   std::vector<uint32_t> flowSlots_;  // per flow index: its slot
+  // The substep's values are kept per place (arrange()): its slot in at_, each flow index's
+  // place in place_; keys_ the Z-order sort's.
+  std::vector<uint32_t> at_, place_;
+  std::vector<uint64_t> keys_;
   struct Pair {
-    uint32_t j;  // the neighbour's flow index
+    uint32_t j;  // the neighbour's place
     float t2;    // (1 - r^2/radius^2)^2
     // The viscosity's weights: t^2 plus its images' t^2 across the solids near i (each image
     // moving at 2 friction - 1 times v_j): on i's diagonal, and on its coupling to j.
@@ -178,10 +183,10 @@ class FlowStepper {
     float pressure;  // j's pressure weight
     float viscous;   // its coupling times j's viscous coefficient (0 for a solid j): A's entry
   };
-  std::vector<Pair> pairs_;           // kNeighbourCap per flow index
-  std::vector<uint32_t> count_;       // per flow index: its pairs
-  std::vector<uint32_t> indexOf_;     // per slot: its flow index (kNotFlow for others)
-  // Per flow index: what the substep's neighbour pass found, and the solvers' values.
+  std::vector<Pair> pairs_;           // kNeighbourCap per place
+  std::vector<uint32_t> count_;       // per place: its pairs
+  std::vector<uint32_t> indexOf_;     // per slot: its place (kNotFlow for others)
+  // Per place: what the substep's neighbour pass found, and the solvers' values.
   struct Own {
     float nu;           // viscosity (m^2/s)
     float theta;        // density ratio, solids' share included
