@@ -225,6 +225,45 @@ TEST(Bench, TheImplicitFlowsRowsAreTheCpusWithTheirRealTimeFactor) {
   EXPECT_NE(r.err.find("flow.solver"), std::string::npos) << r.err;
 }
 
+TEST(Bench, AResumedRunIsBenchedFromItsCheckpointsState) {
+  // --resume: the run a checkpoint holds, its alive flow particles the row's count, each
+  // backend stepping it from there (here the flow module's scene 0.4 s in: 190 alive).
+  const std::string ck = scratch("bench-resume.npz"), csv = scratch("bench-resume.csv");
+  const std::string scene = std::string(LAVA_SOURCE_DIR) + "/scenes/modules/flow.toml";
+  ASSERT_EQ(lava("simulate --backend cpu --scene " + scene + " --steps 400 --checkpoint " + ck +
+                 " --out " + csv)
+                .status,
+            0);
+  const Result r = lava("bench --flow --resume " + ck + " --steps 2 --backends cpu");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("holds, from step 400"), std::string::npos) << r.out;
+  const size_t at = r.out.find("\ncpu ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  std::istringstream row(r.out.substr(at + 1));
+  std::string name;
+  double particles = 0;
+  row >> name >> particles;
+  // The flow particles alive: born (age >= 0) with a temperature (the others' column is 0).
+  std::istringstream rows(readFile(csv));
+  std::string line;
+  std::getline(rows, line);  // the header
+  size_t alive = 0;
+  while (std::getline(rows, line)) {
+    std::vector<double> v;
+    std::istringstream fields(line);
+    for (std::string field; std::getline(fields, field, ',');) v.push_back(std::stod(field));
+    alive += v.size() == 8 && v[6] >= 0.0 && v[7] > 0.0;
+  }
+  EXPECT_GT(alive, 0u);
+  EXPECT_EQ(particles, double(alive)) << r.out;
+  for (const char* bad : {" --sizes 100", " --point", " --draw", ""}) {
+    const std::string flags = std::string(bad).empty() ? "" : " --flow" + std::string(bad);
+    const Result refused = lava("bench --resume " + ck + flags);
+    EXPECT_EQ(refused.status, 2) << bad;
+    EXPECT_NE(refused.err.find("--resume: needs --flow"), std::string::npos) << refused.err;
+  }
+}
+
 TEST(Bench, APointBurstReadsAtMostTheBucketCapOfNeighbours) {
   // --point: 2,000 flow particles at one point share one bucket; each reads its first 64
   // (docs/model.md "Neighbours, bounded"): about 128 pairs a step, not 4,000.

@@ -19,6 +19,7 @@
 #include "lava/lava.h"
 #include "options.h"
 #include "paths.h"
+#include "resume.h"
 #include "runtime.h"
 
 namespace lava::app {
@@ -82,6 +83,11 @@ class BenchCommand final : public Command {
                      "particles at rest [4096,16384], its particle-steps/s, neighbour pairs/s "
                      "and their fraction of the density sum alone over lists made beforehand",
                      flow_);
+    options_.add("resume",
+                 "with --flow: the run a checkpoint FILE.npz holds (lava simulate "
+                 "--checkpoint), from its state and in its scene, instead of a slab: the "
+                 "eruption at a minute, say, sparks and all",
+                 [](const std::string&, const std::string&) {});  // read before resolve()
     options_.addFlag("point",
                      "with --flow: every particle at one point at rest instead, a point "
                      "burst's first steps (the grid's worst case: one bucket)",
@@ -99,7 +105,14 @@ class BenchCommand final : public Command {
   }
 
   int run() override {
+    resumed_ = readResume(options_, scene_);
     options_.resolve();
+    if (resumed_) {
+      checkResumedScene(scene_, resumed_->scene);
+      if (!flow_ || draw_ || point_ || options_.given("sizes"))
+        throw UsageError("--resume: needs --flow, without --draw, --point or --sizes (the "
+                         "checkpoint's run is the one measured)");
+    }
     if (point_ && !flow_) throw UsageError("--point: needs --flow (the flow's point burst)");
     if (draw_ && !flow_) throw UsageError("--draw: needs --flow (the flow's slab, drawn)");
     if (options_.given("particles"))
@@ -194,9 +207,12 @@ class BenchCommand final : public Command {
     // --backends names the GPU (which then refuses it, naming the key).
     const bool implicit = scene_.flow && scene_.flow->solver == FlowSolver::Implicit;
     const bool gpuRow = wants("gpu") && !(implicit && backends_.empty());
+    const std::string what = resumed_ ? "the run " + options_.text("resume") + " holds, from step " +
+                                            std::to_string(resumed_->state.step)
+                           : point_ ? "a point burst" : "a slab at rest";
     std::printf("bench --flow: %s, %s, %s solver, dt %g s, %llu steps, %u CPU threads for "
                 "cpu-mt%s\n",
-                point_ ? "a point burst" : "a slab at rest", device.c_str(),
+                what.c_str(), device.c_str(),
                 implicit ? "implicit" : "explicit", double(scene_.h()),
                 static_cast<unsigned long long>(steps_), cores,
                 implicit && !gpuRow ? " (no gpu row: the GPU steps the explicit flow only)" : "");
@@ -206,7 +222,13 @@ class BenchCommand final : public Command {
     std::ostringstream json;
     json << "{\n  \"device\": \"" << device << "\",\n  \"flow\": [\n";
     bool first = true;
-    for (uint32_t n : sizes) benchFlow(context, n, gpuRow, cores, json, first);
+    if (resumed_)
+      benchFlow(context, scene_, resumed_->state, gpuRow, cores, json, first);
+    else
+      for (uint32_t n : sizes) {
+        const auto [scene, start] = flowSlab(scene_, n, point_);
+        benchFlow(context, scene, start, gpuRow, cores, json, first);
+      }
     std::printf(
         "pairs/st: neighbour pairs each step visits (both passes, counted at the start); "
         "ceiling: the density sum alone over neighbour lists made beforehand, on the same "
@@ -263,11 +285,12 @@ class BenchCommand final : public Command {
     return finish(context, 0);
   }
 
-  // The --flow rows of n particles, printed and appended to json (`first`: no comma before).
-  void benchFlow(Device& context, uint32_t n, bool gpuRow, unsigned cores, std::ostringstream& json,
-                 bool& first) {
-    const auto [scene, start] = flowSlab(scene_, n, point_);
+  // The --flow rows of a scene from `start`, printed and appended to json (`first`: no comma
+  // before); its particles are the flow particles alive at the start.
+  void benchFlow(Device& context, const Scene& scene, const State& start, bool gpuRow,
+                 unsigned cores, std::ostringstream& json, bool& first) {
     const FlowNeighbours neighbours = flowNeighbours(scene, start);
+    const uint32_t n = uint32_t(neighbours.particles.size());
     // Both neighbour passes visit every pair, per step.
     const double pairs = 2.0 * double(neighbours.lists.size());
     const auto row = [&](const char* backend, double seconds, double ceiling) {
@@ -439,6 +462,7 @@ class BenchCommand final : public Command {
   std::vector<std::string> backends_;
   std::string json_;
   bool flow_ = false;
+  std::optional<Snapshot> resumed_;                // --resume
   bool point_ = false;                             // --point
   bool draw_ = false;                              // --draw
   std::string simdTarget_;                         // --simd-target ("": the best)
