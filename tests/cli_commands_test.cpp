@@ -298,6 +298,14 @@ TEST(Render, StartsFromACheckpoint) {
   r = lava("render --scene " + scene + " --warmup 0.4 --frames 1 --size 96x64 --out " + b);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(readFile(a + "/frame_00000.png"), readFile(b + "/frame_00000.png"));
+  // The demo starts from a checkpoint the same way (headless here: its frames are render's).
+  const std::string c = scratch("demo-resumed");
+  r = lava("demo --headless --resume " + ck + " --warmup 0 --frames 1 --size 96x64 --out " + c);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(readFile(c + "/frame_00000.png"), readFile(a + "/frame_00000.png"));
+  r = lava("demo --headless --resume " + ck + " --scene " + scene + " --frames 1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--resume"), std::string::npos) << r.err;
   r = lava("render --resume " + ck + " --scene " + scene + " --frames 1 --warmup 0 --out " + a);
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--scene: not with --resume"), std::string::npos) << r.err;

@@ -12,6 +12,7 @@
 #include "lava/device.h"
 #include "options.h"
 #include "paths.h"
+#include "resume.h"
 #include "runtime.h"
 #include "window/demo_window.h"
 
@@ -60,6 +61,10 @@ class DemoCommand final : public Command {
         "[splat from 16384 particles, else lines]",
         [this](const std::string& src, const std::string& t) { lines_ = parseLineMode(src, t); });
     addLookFlags(options_, look_);
+    options_.add("resume",
+                 "start from the state a checkpoint FILE.npz holds (lava simulate "
+                 "--checkpoint), in its scene; --warmup seconds more before the first frame",
+                 [](const std::string&, const std::string&) {});  // read before resolve()
     options_.add("warmup", "seconds simulated before the first frame, 0..600 [0]",
                  [this](const std::string& src, const std::string& t) {
                    demo_.warmup = parseNumber(src, t, 0, 600);
@@ -81,7 +86,12 @@ class DemoCommand final : public Command {
   }
 
   int run() override {
+    std::optional<Snapshot> resumed = readResume(options_, demo_.scene);
     options_.resolve();
+    if (resumed) {
+      checkResumedScene(demo_.scene, resumed->scene);
+      demo_.start = std::move(resumed->state);
+    }
     const unsigned threads = oversubscribeCpuDevice();
     demo_.validation = validationRequested();
     if (!demo_.device) demo_.device = deviceOptions(demo_.device).index;
@@ -122,6 +132,7 @@ class DemoCommand final : public Command {
     plan.lines = demo_.lines;
     plan.look = look_;
     plan.warmup = demo_.warmup;
+    plan.start = demo_.start;
     plan.backend = backend_;
     Device device(deviceOptions(demo_.device));
     const double seconds = renderFrames(device, demo_.scene, plan);

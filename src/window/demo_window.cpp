@@ -166,6 +166,7 @@ class Demo {
     renderer_.setLineMode(options.lines);
     renderer_.setSettings(options.look);
     if (options.cpu) cpu_ = stepping(scene_);
+    if (options.start) stepper().setState(*options.start);
     stepper().advance(scene_.stepsIn(options.warmup));
     showCpuState();
     simulatedSeconds_ = double(scene_.stepsIn(options.warmup)) * double(scene_.h());

@@ -30,7 +30,8 @@ struct DemoOptions {
   LineMode lines = LineMode::Lines;
   LookStyle style = LookStyle::Lava;
   LookSettings look;
-  double warmup = 0.0;  // seconds simulated before the first frame
+  double warmup = 0.0;  // seconds simulated before the first frame, from `start`
+  std::optional<State> start;  // the state the run starts from (none: the scene's initial)
   std::optional<unsigned> device;
   bool validation = false;
   // Stepped by the CPU backend, the device drawing each frame's state (lava demo --backend);
