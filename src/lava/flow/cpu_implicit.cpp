@@ -1,8 +1,9 @@
 // The implicit flow on the CPU (docs/model.md, "The implicit flow"). A step is cut into
 // substeps by a CFL bound; each substep finds every particle's neighbours once, solves the
 // viscosity implicitly (a Jacobi-preconditioned conjugate gradient per component, its sums in
-// flow index order), projects the velocities onto the density constraint by Jacobi iterations,
-// and moves. Plain float32, built with -ffp-contract=off: every sum in an order fixed by the
+// flow index order), projects the velocities onto the density constraint (a conjugate
+// gradient too), and moves. Its values are kept along the Z-order curve of the cells
+// (arrange()); no sum's order depends on that. Plain float32, built with -ffp-contract=off: every sum in an order fixed by the
 // state, gathers only, the same bits for any thread count.
 #include <algorithm>
 #include <cmath>
@@ -393,8 +394,9 @@ void FlowStepper::viscousSystem(const State& state, float hs, float fraction) {
       const float coupling = a * list[k].coupling;
       const V term = tiny(coupling * velocity(list[k].j));
       // A solid neighbour's share is on the right side: 0 in the product (pull never -0).
-      list[k].viscous = own_[list[k].j].liquid ? coupling : 0.0f;
-      if (own_[list[k].j].liquid)
+      const bool liquid = own_[list[k].j].liquid;
+      list[k].viscous = liquid ? coupling : 0.0f;
+      if (liquid)
         pull = pull + term;
       else
         fixed = fixed + term;
@@ -631,7 +633,7 @@ void FlowStepper::move(State& state, float hs, float fraction, float invHs) {
     particles[i] = next_[e].particle;
     state.temperature[i] = next_[e].temperature;
     state.crust[i] = next_[e].crust;
-    state.pressure[i] = pressure_[indexOf_[i]];
+    state.pressure[i] = pressure_[e];  // place e holds slot i
   }
 }
 
