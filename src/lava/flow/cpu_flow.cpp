@@ -186,6 +186,7 @@ FlowStepper::FlowStepper(const Reference& reference, unsigned threads)
     pressure_.resize(flow);
     for (std::vector<float>* v : {&lambda_, &rhs_, &ar_, &az_, &ap_, &aq_}) v->resize(flow);
     u_.resize(flow);
+    w_.resize(flow);
     count_.resize(flow);
     at_.resize(flow);
     place_.resize(flow);

@@ -1,10 +1,11 @@
 // The implicit flow on the CPU (docs/model.md, "The implicit flow"). A step is cut into
-// substeps by a CFL bound; each substep finds every particle's neighbours once, solves the
-// viscosity implicitly (a Jacobi-preconditioned conjugate gradient per component, its sums in
-// flow index order), projects the velocities onto the density constraint (a conjugate
-// gradient too), and moves. Its values are kept along the Z-order curve of the cells
-// (arrange()); no sum's order depends on that. Plain float32, built with -ffp-contract=off: every sum in an order fixed by the
-// state, gathers only, the same bits for any thread count.
+// substeps by a CFL bound; each substep finds every particle's neighbours once, applies the
+// forces, projects the velocities onto the density constraint (a conjugate gradient, its
+// velocity changes smoothed), then solves the viscosity implicitly (a Jacobi-preconditioned
+// conjugate gradient per component), and moves. Its values are kept along the Z-order curve
+// of the cells (arrange()); every sum runs in an order fixed by the state (flow index order
+// for the CGs' dot products), in plain float32 built with -ffp-contract=off: gathers only,
+// the same bits for any thread count.
 #include <algorithm>
 #include <cmath>
 
@@ -39,6 +40,11 @@ constexpr float kPressureTolerance = 1e-2f;
 // The share of a compression beyond rest undone in one substep: all of it at once kicks the
 // particles apart faster than the flow moves.
 constexpr float kCorrection = 0.3f;
+// The density constraint's velocity changes are smoothed by S = I - kSmoothing L', L' its
+// neighbours' Laplacian normalised so that S stays positive semi-definite at 1/2 (docs/model.md,
+// "The implicit flow"): the constraint cannot see neighbouring layers closing in step, and
+// without S it hands half of gravity to such pairing; a lattice at rest then never settles.
+constexpr float kSmoothing = 0.5f;
 
 V of(const V3f& v) {
   return {v.x, v.y, v.z};
@@ -144,11 +150,12 @@ ImplicitConstants implicitConstants(const Scene& scene) {
   // A solid's density: the half-space beyond it filled at rest, sum (1 - r/radius)^3 / S over
   // it as an integral, 2 pi radius^3 / (S V0) U^5 (3 - 2U) / 60 at U = 1 - d/radius; scaled so
   // that a particle half a spacing above a solid on the rest lattice has theta = 1.
-  double upper = 0.0, gradients = 0.0;
+  double upper = 0.0, gradients = 0.0, degree = 0.0;
   forLattice(s0, radius, [&](int, int, int c, double r) {
-    const double u = 1.0 - r / radius;
+    const double u = 1.0 - r / radius, t = 1.0 - (r * r) / (radius * radius);
     if (c >= 0) upper += u * u * u;
     if (r > 0.0) gradients += std::pow(3.0 / (lattice * radius) * u * u, 2);
+    if (r > 0.0) degree += t * t;
   });
   const double half = 1.0 - 0.5 * s0 / radius;
   const double continuum = 2.0 * kPi * radius * radius * radius / (lattice * v0);
@@ -157,6 +164,7 @@ ImplicitConstants implicitConstants(const Scene& scene) {
   k.phi = float(scale * continuum / 60.0);
   k.slope = float(-scale * continuum / (20.0 * radius));
   k.epsilon = float(kRelax * gradients);
+  k.restDegree = float(degree);
   k.tolerance2 = kTolerance * kTolerance;
   k.pressureTolerance2 = kPressureTolerance * kPressureTolerance;
   k.near = float(s0);
@@ -197,10 +205,13 @@ void FlowStepper::substep(State& state, float fraction, uint32_t substeps) {
     o.nu = flowViscosity(k_, state.temperature[i]);
   }
   gatherNeighbours(state, hs);
-  viscousSystem(state, hs, fraction);
-  solveViscosity();
+  forces(state, fraction);
   const float invHs = ik_.invStep * float(substeps);
+  // The density constraint before the viscosity: the viscosity then damps, in the same
+  // substep, what the constraint cannot see (neighbouring layers closing in step).
   solveDensity(state, hs, invHs);
+  viscousSystem(hs);
+  solveViscosity();
   move(state, hs, fraction, invHs);
 }
 
@@ -354,37 +365,45 @@ void FlowStepper::gatherNeighbours(const State& state, float hs) {
   });
 }
 
-// The velocities after the forces and the viscosity: per liquid particle i,
+// The velocities after the viscosity: per liquid particle i,
 //   (m_i + sum_j a_ij + wall_i) v_i - sum_{liquid j} a_ij v_j = m_i v*_i + sum_{solid j} a_ij v_j
 // with m the volume in V0, a_ij = hs m_i viscous_j (nu_i + nu_j) t^2, wall_i =
-// 2 hs m_i nu_i wallViscous_i, v* the start-of-substep velocity after the forces; solved by
-// CG from the start-of-substep velocities, each component on its own.
+// 2 hs m_i nu_i wallViscous_i, v* the velocity after the forces and the density constraint;
+// solved by CG from v*, each component on its own.
 float FlowStepper::viscousCoefficient(uint32_t f, uint32_t j, float hs) const {
   const float hsm = hs * weights_[emitterOfSlot_[at_[f]]].volume;
   return (hsm * weights_[emitterOfSlot_[at_[j]]].viscous) * (own_[f].nu + own_[j].nu);
 }
 
-// The viscosity's system: each liquid row's diagonal, right side b, and the CG's start from
-// the substep's start velocities (its residual r, z = r / D, direction p = z).
-void FlowStepper::viscousSystem(const State& state, float hs, float fraction) {
+// v: each liquid particle's start-of-substep velocity after the forces, flushed; the others'
+// start-of-substep velocity.
+void FlowStepper::forces(const State& state, float fraction) {
   const Scene& s = reference_.scene();
-  const auto velocity = [&](uint32_t f) {
-    const Particle& p = state.particles[at_[f]];
-    return V{p.vx, p.vy, p.vz};
-  };
+  parallel(flowSlots_.size(), [&](size_t e) {
+    const uint32_t f = uint32_t(e), i = at_[f];
+    const Particle& p = state.particles[i];
+    const V v0{p.vx, p.vy, p.vz};
+    if (!own_[f].liquid) {
+      v_[f] = stored(v0);
+      return;
+    }
+    const EmitterConstants& ek = reference_.constants(emitterOfSlot_[i]);
+    v_[f] = stored(Model::flushed(
+        v0 + (ek.hm * fraction) * Model::force<Modules::Any>(s, V{p.px, p.py, p.pz}, v0, ek.w)));
+  });
+}
+
+// The viscosity's system: each liquid row's diagonal, right side b, and the CG's start from
+// v* (its residual r, z = r / D, direction p = z). A solid's v is its start velocity.
+void FlowStepper::viscousSystem(float hs) {
   parallel(flowSlots_.size(), [&](size_t e) {
     const uint32_t f = uint32_t(e), i = at_[f];
     Own& o = own_[f];
-    const V v0 = velocity(f);
-    v_[f] = stored(v0);
     p_[f] = V3f{0.0f, 0.0f, 0.0f};  // a solid's direction stays 0: its pairs' products are 0
     if (!o.liquid) return;
-    const Particle& p = state.particles[i];
     const size_t emitter = emitterOfSlot_[i];
-    const EmitterConstants& ek = reference_.constants(emitter);
     const float m = weights_[emitter].volume;
-    const V vstar = Model::flushed(
-        v0 + (ek.hm * fraction) * Model::force<Modules::Any>(s, V{p.px, p.py, p.pz}, v0, ek.w));
+    const V vstar = of(v_[f]);
     float sum = 0.0f;
     V fixed{0.0f, 0.0f, 0.0f}, pull{0.0f, 0.0f, 0.0f};
     Pair* list = &pairs_[size_t(f) * kNeighbourCap];
@@ -392,10 +411,10 @@ void FlowStepper::viscousSystem(const State& state, float hs, float fraction) {
       const float a = viscousCoefficient(f, list[k].j, hs);
       sum = sum + a * list[k].diagonal;
       const float coupling = a * list[k].coupling;
-      const V term = tiny(coupling * velocity(list[k].j));
+      const V term = tiny(coupling * of(v_[list[k].j]));
       // A solid neighbour's share is on the right side: 0 in the product (pull never -0).
       const bool liquid = own_[list[k].j].liquid;
-      list[k].viscous = liquid ? coupling : 0.0f;
+      list[k].weight = liquid ? coupling : 0.0f;
       if (liquid)
         pull = pull + term;
       else
@@ -404,7 +423,7 @@ void FlowStepper::viscousSystem(const State& state, float hs, float fraction) {
     o.diag = (m + sum) + (((hs * m) * weights_[emitter].viscous) * (o.nu + o.nu)) * o.wallViscous;
     o.invDiag = reciprocal(o.diag);
     const V b = m * vstar + fixed;
-    const V r = b - (o.diag * v0 - pull);
+    const V r = b - (o.diag * vstar - pull);
     b_[f] = stored(b);
     r_[f] = stored(r);
     z_[f] = stored(tiny(o.invDiag * r));
@@ -433,7 +452,7 @@ void FlowStepper::solveViscosity() {
       V pull{0.0f, 0.0f, 0.0f};
       const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
       for (uint32_t c = 0; c < count_[f]; ++c)
-        pull = pull + tiny(list[c].viscous * of(p_[list[c].j]));
+        pull = pull + tiny(list[c].weight * of(p_[list[c].j]));
       q_[f] = stored(tiny(o.diag * of(p_[f])) - pull);
     });
     const V pq = orderedSums(place_, liquidTerm([&](size_t f) { return times(of(p_[f]), of(q_[f])); }));
@@ -494,24 +513,63 @@ V3f FlowStepper::pushOf(uint32_t f, const std::vector<float>& m) const {
   return stored(dv - tiny(m[f] * of(gradWall_[f])));
 }
 
+// w = S u = u - kSmoothing sum_j weight_fj (u_f - u_j) on the liquid particles, 0 on the
+// others, weight_fj = t^2 min(1/d_f, 1/d_j) (0 for a solid j): symmetric, and by Gershgorin's
+// bound positive semi-definite, so that J S J^T stays a CG's matrix; the pairs cancel, so
+// momentum is kept.
+void FlowStepper::smooth(const std::vector<V3f>& u, std::vector<V3f>& w) const {
+  parallel(flowSlots_.size(), [&](size_t f) {
+    if (!own_[f].liquid) {
+      w[f] = V3f{0.0f, 0.0f, 0.0f};
+      return;
+    }
+    const V uf = of(u[f]);
+    V sum{0.0f, 0.0f, 0.0f};
+    const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+    for (uint32_t c = 0; c < count_[f]; ++c)
+      sum = sum + tiny(list[c].weight * (uf - of(u[list[c].j])));
+    w[f] = stored(uf - tiny(kSmoothing * sum));
+  });
+}
+
 // The density constraint on the velocities (docs/model.md, "The implicit flow"): for the
 // active liquid particles (compressing under the forces, or pressed at the last substep),
-// multipliers m with (J J^T + epsilon) m = C / hs, C = theta - 1 + hs J v the predicted
+// multipliers m with (J S J^T + epsilon) m = C / hs, C = theta - 1 + hs J v the predicted
 // density error; solved by CG from the last substep's pressures, then m >= 0 kept and the
-// velocities moved by -J^T m.
-// q = (J J^T + epsilon) x on the active set: u = -J^T x, then q = -J u + epsilon x.
+// velocities moved by -S J^T m.
+// q = (J S J^T + epsilon) x on the active set: u = -J^T x, w = S u, then q = -J w + epsilon x.
 void FlowStepper::multiplyDensity(const std::vector<float>& x, std::vector<float>& q) {
   const size_t n = flowSlots_.size();
   parallel(n, [&](size_t f) {
     if (own_[f].liquid) u_[f] = pushOf(uint32_t(f), x);
   });
+  smooth(u_, w_);
   parallel(n, [&](size_t f) {
-    q[f] = own_[f].active ? tiny(ik_.epsilon * x[f]) - rateOf(uint32_t(f), u_) : 0.0f;
+    q[f] = own_[f].active ? tiny(ik_.epsilon * x[f]) - rateOf(uint32_t(f), w_) : 0.0f;
+  });
+}
+
+// S's weights: each liquid particle's 1/d, then each pair's t^2 min(1/d_f, 1/d_j).
+void FlowStepper::smoothingWeights() {
+  parallel(flowSlots_.size(), [&](size_t f) {
+    float degree = 0.0f;
+    const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+    for (uint32_t c = 0; c < count_[f]; ++c)
+      if (own_[list[c].j].liquid) degree = degree + list[c].t2;
+    own_[f].invDegree = reciprocal(std::max(degree, ik_.restDegree));
+  });
+  parallel(flowSlots_.size(), [&](size_t f) {
+    Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+    for (uint32_t c = 0; c < count_[f]; ++c) {
+      const Own& j = own_[list[c].j];
+      list[c].weight = j.liquid ? list[c].t2 * std::min(own_[f].invDegree, j.invDegree) : 0.0f;
+    }
   });
 }
 
 // The density constraint's active set, right side and start: the last substep's pressures.
 void FlowStepper::densitySystem(const State& state, float hs, float invHs) {
+  smoothingWeights();
   parallel(flowSlots_.size(), [&](size_t e) {
     const uint32_t f = uint32_t(e);
     Own& o = own_[f];
@@ -567,8 +625,12 @@ void FlowStepper::solveDensity(const State& state, float hs, float invHs) {
   }
   parallel(n, [&](size_t f) { lambda_[f] = std::max(lambda_[f], 0.0f); });
   parallel(n, [&](size_t f) {
+    if (own_[f].liquid) u_[f] = pushOf(uint32_t(f), lambda_);
+  });
+  smooth(u_, w_);
+  parallel(n, [&](size_t f) {
     if (!own_[f].liquid) return;
-    v_[f] = stored(of(v_[f]) + of(pushOf(uint32_t(f), lambda_)));
+    v_[f] = stored(of(v_[f]) + of(w_[f]));
     own_[f].total = lambda_[f];
   });
 }

@@ -68,6 +68,7 @@ struct ImplicitConstants {
   float phi, slope;   // a solid's density at distance d: phi u^5 (3 - 2u), its d-derivative
                       // slope u^4 (5 - 4u), u = 1 - d/radius
   float epsilon;      // the constraint's relaxation, added to its gradients' squares (1/m^2)
+  float restDegree;   // the rest lattice's sum of t^2 over a particle's neighbours
   float tolerance2;   // the CG stops where r.z <= tolerance2 b.(b / D), per component
   float pressureTolerance2;  // and the density constraint's where r.z <= this b.(b / D)
   float near;         // a particle this close to a solid (m) touches it: rest spacing
@@ -126,12 +127,16 @@ class FlowStepper {
   void substep(State& state, float fraction, uint32_t substeps);
   void arrange();
   void gatherNeighbours(const State& state, float hs);
-  void viscousSystem(const State& state, float hs, float fraction);
+  void forces(const State& state, float fraction);
+  void viscousSystem(float hs);
   void solveViscosity();
   // hs m_f viscous_j (nu_f + nu_j): times a pair's weights, its share of f's row.
   float viscousCoefficient(uint32_t f, uint32_t j, float hs) const;
   void densitySystem(const State& state, float hs, float invHs);
   void multiplyDensity(const std::vector<float>& x, std::vector<float>& q);
+  // w = S u on the liquid particles: the density constraint's velocity changes smoothed.
+  void smooth(const std::vector<V3f>& u, std::vector<V3f>& w) const;
+  void smoothingWeights();
   void solveDensity(const State& state, float hs, float invHs);
   float conducted(const State& state, uint32_t f, float conduction) const;
   float rateOf(uint32_t f, const std::vector<V3f>& u) const;
@@ -181,7 +186,9 @@ class FlowStepper {
     float diagonal, coupling;
     V3f e;       // (1 - r/radius)^2 times the unit direction from j to i
     float pressure;  // j's pressure weight
-    float viscous;   // its coupling times j's viscous coefficient (0 for a solid j): A's entry
+    // The pass's weight (0 for a solid j): S's, t^2 min(1/d_i, 1/d_j), in the density
+    // constraint; then the viscosity's, its coupling times j's viscous coefficient (A's entry).
+    float weight;
   };
   std::vector<Pair> pairs_;           // kNeighbourCap per place
   std::vector<uint32_t> count_;       // per place: its pairs
@@ -194,6 +201,7 @@ class FlowStepper {
     float wallViscous;  // its own images' t^2 across the solids, each times 2 - 2 friction
     float conductive;   // the conduction's stability factor
     float diag, invDiag;
+    float invDegree;    // S's: 1 / max(sum of t^2 over liquid neighbours, restDegree)
     float total;  // the density constraint's multiplier (m^2/s)
     uint8_t liquid, touches, near, active;
   };
@@ -204,9 +212,9 @@ class FlowStepper {
   std::vector<V3f> gradWall_, v_, r_, z_, p_, q_, b_;
   std::vector<float> pressure_;  // the substep's results, written back with next_
   // The density constraint's CG: multipliers, right side, residual, preconditioned
-  // residual, direction and product; u the velocity change of a product.
+  // residual, direction and product; u the velocity change of a product, w it smoothed.
   std::vector<float> lambda_, rhs_, ar_, az_, ap_, aq_;
-  std::vector<V3f> u_;
+  std::vector<V3f> u_, w_;
 };
 
 }  // namespace lava::detail
