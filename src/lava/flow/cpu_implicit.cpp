@@ -540,13 +540,18 @@ void FlowStepper::smooth(const std::vector<V3f>& u, std::vector<V3f>& w) const {
 // q = (J S J^T + epsilon) x on the active set: u = -J^T x, w = S u, then q = -J w + epsilon x.
 void FlowStepper::multiplyDensity(const std::vector<float>& x, std::vector<float>& q) {
   const size_t n = flowSlots_.size();
-  parallel(n, [&](size_t f) {
-    if (own_[f].liquid) u_[f] = pushOf(uint32_t(f), x);
-  });
-  smooth(u_, w_);
+  correction(x);
   parallel(n, [&](size_t f) {
     q[f] = own_[f].active ? tiny(ik_.epsilon * x[f]) - rateOf(uint32_t(f), w_) : 0.0f;
   });
+}
+
+// w = S u, u = -J^T m: the velocity change of the multipliers m.
+void FlowStepper::correction(const std::vector<float>& m) {
+  parallel(flowSlots_.size(), [&](size_t f) {
+    if (own_[f].liquid) u_[f] = pushOf(uint32_t(f), m);
+  });
+  smooth(u_, w_);
 }
 
 // S's weights: each liquid particle's 1/d, then each pair's t^2 min(1/d_f, 1/d_j).
@@ -624,10 +629,7 @@ void FlowStepper::solveDensity(const State& state, float hs, float invHs) {
     });
   }
   parallel(n, [&](size_t f) { lambda_[f] = std::max(lambda_[f], 0.0f); });
-  parallel(n, [&](size_t f) {
-    if (own_[f].liquid) u_[f] = pushOf(uint32_t(f), lambda_);
-  });
-  smooth(u_, w_);
+  correction(lambda_);
   parallel(n, [&](size_t f) {
     if (!own_[f].liquid) return;
     v_[f] = stored(of(v_[f]) + of(w_[f]));

@@ -137,6 +137,7 @@ class FlowStepper {
   // w = S u on the liquid particles: the density constraint's velocity changes smoothed.
   void smooth(const std::vector<V3f>& u, std::vector<V3f>& w) const;
   void smoothingWeights();
+  void correction(const std::vector<float>& m);  // w_ = S u_, u_ = -J^T m
   void solveDensity(const State& state, float hs, float invHs);
   float conducted(const State& state, uint32_t f, float conduction) const;
   float rateOf(uint32_t f, const std::vector<V3f>& u) const;
