@@ -148,7 +148,8 @@ class DemoCommand final : public Command {
 
  private:
   // The CPU steps the run with --backend cpu or cpu-simd, and the implicit flow's unless
-  // --backend says otherwise (the GPU runs the explicit flow only); the device draws it.
+  // --backend says otherwise (it has no shader yet: the GPU backend would step it on the
+  // host, beside the sparks); the device draws it.
   void chooseStepper() {
     const bool implicit = demo_.scene.flow && demo_.scene.flow->solver == FlowSolver::Implicit;
     const bool chosen = options_.given("backend");
@@ -158,7 +159,7 @@ class DemoCommand final : public Command {
     std::printf("demo: %s steps the run on %u thread%s%s, the device draws it\n",
                 backend_.kernel == CpuKernel::Simd ? "cpu-simd" : "cpu", demo_.cpu->threads,
                 demo_.cpu->threads == 1 ? "" : "s",
-                chosen ? "" : " (the implicit flow runs on the CPU backends)");
+                chosen ? "" : " (the implicit flow has no GPU shader yet)");
   }
 
   Options options_;

@@ -4,8 +4,10 @@
 #include <algorithm>
 #include <cstring>
 #include <string>
+#include <thread>
 
 #include "lava/error.h"
+#include "sim/reference.h"
 #include "sim/scene_params.h"
 #include "vulkan/shaders.h"
 
@@ -14,12 +16,8 @@ namespace {
 
 constexpr VkDeviceSize kParticleBytes = sizeof(Particle);
 
-// flow.comp runs the explicit flow; the implicit one runs on the CPU backends so far.
-void checkSolver(const Scene& scene) {
-  if (scene.flow->solver != FlowSolver::Explicit)
-    throw InvalidArgument("flow.solver", "\"" + std::string(name(scene.flow->solver)) +
-                                             "\" runs on the CPU backends (cpu, cpu-simd); the "
-                                             "GPU backend runs \"explicit\"");
+bool onHost(const Scene& scene) {
+  return scene.flow->solver == FlowSolver::Implicit;
 }
 
 // flow.comp's grid: each bucket's count and start, the sorted slots, each run's count and
@@ -32,7 +30,6 @@ VkDeviceSize gridBytes(uint64_t buckets, uint64_t slots) {
 // The scene's parameters, once its flow is known to fit the device: the sizes are checked in
 // 64 bits before flowParams narrows them to the shader's 32.
 gpu::FlowParams checkedParams(const DeviceContext& c, const Scene& scene) {
-  checkSolver(scene);
   uint64_t slots = 0;
   for (const FlowRange& r : flowRanges(scene)) {
     slots += r.count;
@@ -61,6 +58,22 @@ constexpr VkBufferUsageFlags kCopied = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
 
 }  // namespace
 
+// The implicit flow on the host: the CPU backends' stepper over a state of its own, of which
+// only the flow slots are used. A stepper's bits do not depend on its threads or on when it
+// was made, so this gives the CPU backends' bits.
+struct GpuFlow::HostStep {
+  explicit HostStep(const Scene& scene) : state(initialState(scene)) { rebuild(scene); }
+  void rebuild(const Scene& scene) {
+    stepper.reset();
+    reference = std::make_unique<Reference>(scene);
+    stepper = std::make_unique<FlowStepper>(*reference,
+                                            std::max(1u, std::thread::hardware_concurrency()));
+  }
+  State state;
+  std::unique_ptr<Reference> reference;
+  std::unique_ptr<FlowStepper> stepper;
+};
+
 GpuFlow::GpuFlow(DeviceContext& c, const Scene& scene)
     : c_(c),
       params_(checkedParams(c, scene)),
@@ -69,17 +82,21 @@ GpuFlow::GpuFlow(DeviceContext& c, const Scene& scene)
       buckets_(params_.sizes.x),
       particles_(c, VkDeviceSize{slots_} * kParticleBytes, kCopied, MemoryUse::Device),
       heat_(c, VkDeviceSize{slots_} * sizeof(gpu::FlowHeat), kCopied, MemoryUse::Device),
-      next_(c, VkDeviceSize{slots_} * sizeof(gpu::FlowNext), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-            MemoryUse::Device),
-      scratch_(c, VkDeviceSize{slots_} * sizeof(gpu::FlowScratch),
-               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Device),
-      grid_(c, gridBytes(buckets_, slots_),
-            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-            MemoryUse::Device),
       upload_(c, VkDeviceSize{slots_} * (kParticleBytes + sizeof(gpu::FlowHeat)),
               VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload),
       readback_(c, VkDeviceSize{slots_} * sizeof(gpu::FlowHeat), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                 MemoryUse::Readback) {
+  if (onHost(scene)) {
+    host_ = std::make_unique<HostStep>(scene);
+    return;
+  }
+  next_ = Buffer(c, VkDeviceSize{slots_} * sizeof(gpu::FlowNext),
+                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Device);
+  scratch_ = Buffer(c, VkDeviceSize{slots_} * sizeof(gpu::FlowScratch),
+                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUse::Device);
+  grid_ = Buffer(c, gridBytes(buckets_, slots_),
+                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                 MemoryUse::Device);
   setLayout_ =
       createSetLayout(c,
                       {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
@@ -92,10 +109,14 @@ GpuFlow::GpuFlow(DeviceContext& c, const Scene& scene)
   pipeline(scene);
 }
 
+GpuFlow::~GpuFlow() = default;
+
 void GpuFlow::setScene(const Scene& scene) {
-  checkSolver(scene);
   params_ = flowParams(scene);
-  pipeline(scene);
+  if (host_)
+    host_->rebuild(scene);
+  else
+    pipeline(scene);
 }
 
 VkPipeline GpuFlow::pipeline(const Scene& scene) {
@@ -123,11 +144,15 @@ void GpuFlow::recordInit(VkCommandBuffer commands, VkBuffer unborn, VkDeviceSize
     regions.push_back({0, at, std::min(block, bytes - at)});
   c_.vk.CmdCopyBuffer(commands, unborn, particles_.get(), uint32_t(regions.size()), regions.data());
   c_.vk.CmdFillBuffer(commands, heat_.get(), 0, VK_WHOLE_SIZE, 0);
-  c_.vk.CmdFillBuffer(commands, grid_.get(), 0, VK_WHOLE_SIZE, 0);
+  if (!host_) c_.vk.CmdFillBuffer(commands, grid_.get(), 0, VK_WHOLE_SIZE, 0);
 }
 
 void GpuFlow::record(VkCommandBuffer commands, const Scene& scene, const SlotBindings& slot,
                      uint32_t steps, const std::vector<ParticleChunk>& chunks) {
+  if (host_) {
+    recordHost(commands, slot, steps);
+    return copyToChunks(commands, chunks);
+  }
   // RAW/WAR: an upload or an earlier pass wrote, or a copy into the chunks or a draw read,
   // the flow's buffers.
   const auto barrier = [&] { beforeCompute(c_, commands); };
@@ -165,22 +190,17 @@ void GpuFlow::record(VkCommandBuffer commands, const Scene& scene, const SlotBin
       c_.vk.CmdDispatch(commands, groups[pass], 1, 1);
     }
   }
-  // RAW, and WAW/WAR on the chunks: the copy reads the flow's last results and writes over
-  // what step.comp wrote and draws read.
-  memoryBarrier(c_, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                VK_PIPELINE_STAGE_TRANSFER_BIT,
-                VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
   copyToChunks(commands, chunks);
-  // RAW: steps, draws and read-backs read the particles copied here.
-  memoryBarrier(c_, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
-                    VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
-                    VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
 }
 
 void GpuFlow::copyToChunks(VkCommandBuffer commands,
                            const std::vector<ParticleChunk>& chunks) const {
+  // RAW, and WAW/WAR on the chunks: the copy reads the flow's last results (flow.comp's or
+  // the host's copy) and writes over what step.comp wrote and draws read.
+  memoryBarrier(c_, commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_TRANSFER_BIT,
+                VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
   std::vector<VkBufferCopy> regions;
   for (const ParticleChunk& chunk : chunks) {
     regions.clear();
@@ -195,10 +215,18 @@ void GpuFlow::copyToChunks(VkCommandBuffer commands,
       c_.vk.CmdCopyBuffer(commands, particles_.get(), chunk.buffer, uint32_t(regions.size()),
                           regions.data());
   }
+  // RAW: steps, draws and read-backs read the particles copied here.
+  memoryBarrier(c_, commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+                    VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                    VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
 }
 
-void GpuFlow::upload(const State& state) {
-  auto* particles = static_cast<Particle*>(upload_.mapped());
+// Writes the flow slots' particles, temperatures and crust flags of `state` into the mapped
+// `staging`, by flow index: the particles, then the heat.
+void GpuFlow::stage(const Buffer& staging, const State& state) const {
+  auto* particles = static_cast<Particle*>(staging.mapped());
   auto* heat = reinterpret_cast<gpu::FlowHeat*>(particles + slots_);
   for (const FlowRange& r : ranges_)
     for (uint64_t i = 0; i < r.count; ++i) {
@@ -206,23 +234,68 @@ void GpuFlow::upload(const State& state) {
       particles[r.firstIndex + i] = state.particles[slot];
       heat[r.firstIndex + i] = {state.temperature[slot], uint32_t(state.crust[slot])};
     }
-  upload_.flush();
+  staging.flush();
+}
+
+void GpuFlow::copyStaged(VkCommandBuffer commands, const Buffer& staging) const {
+  const VkDeviceSize particleBytes = VkDeviceSize{slots_} * kParticleBytes;
+  const VkBufferCopy toParticles{0, 0, particleBytes};
+  const VkBufferCopy toHeat{particleBytes, 0, VkDeviceSize{slots_} * sizeof(gpu::FlowHeat)};
+  c_.vk.CmdCopyBuffer(commands, staging.get(), particles_.get(), 1, &toParticles);
+  c_.vk.CmdCopyBuffer(commands, staging.get(), heat_.get(), 1, &toHeat);
+}
+
+void GpuFlow::recordHost(VkCommandBuffer commands, const SlotBindings& slot, uint32_t steps) {
+  State& state = host_->state;
+  for (uint32_t s = 0; s < steps; ++s) {
+    host_->stepper->births(state, *slot.births, s);
+    host_->stepper->step(state);
+  }
+  Buffer& staging = *slot.staging;
+  if (!staging.get())
+    staging = Buffer(c_, upload_.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload);
+  stage(staging, state);
+  // WAW/WAR: earlier copies wrote, and draws and copies read, what is overwritten here.
+  memoryBarrier(c_, commands,
+                VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+                    VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                VK_ACCESS_TRANSFER_WRITE_BIT);
+  copyStaged(commands, staging);
+}
+
+void GpuFlow::upload(const State& state) {
+  if (host_)
+    for (const FlowRange& r : ranges_)
+      for (uint64_t slot = r.firstSlot; slot < r.firstSlot + r.count; ++slot) {
+        host_->state.particles[slot] = state.particles[slot];
+        host_->state.temperature[slot] = state.temperature[slot];
+        host_->state.crust[slot] = state.crust[slot];
+        host_->state.pressure[slot] = state.pressure[slot];
+      }
+  stage(upload_, state);
   c_.submitNow([&](VkCommandBuffer commands) {
     // WAW/WAR: earlier passes wrote and read what is overwritten here.
     memoryBarrier(c_, commands,
                   VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                   VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
                   VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
-    const VkDeviceSize particleBytes = VkDeviceSize{slots_} * kParticleBytes;
-    const VkBufferCopy toParticles{0, 0, particleBytes};
-    const VkBufferCopy toHeat{particleBytes, 0, VkDeviceSize{slots_} * sizeof(gpu::FlowHeat)};
-    c_.vk.CmdCopyBuffer(commands, upload_.get(), particles_.get(), 1, &toParticles);
-    c_.vk.CmdCopyBuffer(commands, upload_.get(), heat_.get(), 1, &toHeat);
-    c_.vk.CmdFillBuffer(commands, grid_.get(), 0, VK_WHOLE_SIZE, 0);
+    copyStaged(commands, upload_);
+    if (!host_) c_.vk.CmdFillBuffer(commands, grid_.get(), 0, VK_WHOLE_SIZE, 0);
   });
 }
 
 void GpuFlow::download(State& state) {
+  if (host_) {  // the host's own, as of the last recorded step
+    state.pressure.assign(state.particles.size(), 0.0f);
+    for (const FlowRange& r : ranges_)
+      for (uint64_t slot = r.firstSlot; slot < r.firstSlot + r.count; ++slot) {
+        state.temperature[slot] = host_->state.temperature[slot];
+        state.crust[slot] = host_->state.crust[slot];
+        state.pressure[slot] = host_->state.pressure[slot];
+      }
+    return;
+  }
   c_.submitNow([&](VkCommandBuffer commands) {
     // RAW: flow.comp wrote the heat this copy reads; the host reads what it writes.
     memoryBarrier(c_, commands,

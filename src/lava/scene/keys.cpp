@@ -366,7 +366,8 @@ std::vector<KeyDef> flowKeys() {
       nameKey<FlowSolver>(
           "solver",
           "the flow's method: explicit (weakly compressible, viscosity capped; every backend) "
-          "or implicit (density constraint, viscosity as given, substeps; CPU backends only)",
+          "or implicit (density constraint, viscosity as given, substeps; the GPU backend steps "
+          "it on the host)",
           2, [f](Scene& s, size_t i) -> FlowSolver& { return f(s, i).solver; }),
   };
 }

@@ -62,6 +62,10 @@ struct ScheduleSlot {
   Buffer sceneParams;                         // the scene's parameters, host-written
   Buffer flowParams;                          // the flow's, host-written (scenes with a flow)
   detail::DescriptorArena sets;               // without push descriptors
+  // The flow emitters' births of each planned step, and the implicit flow's staging: what
+  // the host steps and the recording copies to the device (GpuFlow).
+  std::vector<std::vector<detail::Births>> flowBirths;
+  Buffer flowStaging;
 };
 
 // Half-open ranges of workgroups of one step dispatch.
@@ -287,7 +291,10 @@ GpuSimulation::GpuSimulation(Device& device, const Scene& scene,
 GpuSimulation::~GpuSimulation() = default;
 
 std::string GpuSimulation::name() const {
-  return std::string("gpu (") + impl_->c.properties.deviceName + ")";
+  return std::string("gpu (") + impl_->c.properties.deviceName + ")" +
+         (scene_.flow && scene_.flow->solver == FlowSolver::Implicit && scene_.flows()
+              ? ", the implicit flow on the host"
+              : "");
 }
 
 const std::vector<ParticleChunk>& GpuSimulation::chunks() const {
@@ -344,7 +351,9 @@ void GpuSimulation::Impl::plan(const Scene& scene, uint32_t index, uint32_t step
   auto* entries = static_cast<gpu::EmitEntry*>(slot.schedule.mapped());
   const gpu::SceneParams params = detail::sceneParams(scene);
   slot.rings.assign(scene.emitters.size(), 0);
+  slot.flowBirths.resize(scene.emitters.size());
   for (size_t k = 0; k < scene.emitters.size(); ++k) {
+    slot.flowBirths[k].clear();
     slot.rings[k] = params.emitters[k].ring.w;  // the first slot, as step.comp reads it
     const Emitter& e = scene.emitters[k];
     const uint64_t period = detail::burstPeriod(e, scene.dt);
@@ -353,6 +362,7 @@ void GpuSimulation::Impl::plan(const Scene& scene, uint32_t index, uint32_t step
     uint64_t births = 0;  // only differences within one dispatch matter
     for (uint32_t i = 0; i < steps; ++i) {
       const detail::Births b = detail::advanceClock(clocks[k], e, scene.h(), period, step + i);
+      if (e.flow) slot.flowBirths[k].push_back(b);
       region[i].ring = {b.head, b.count, static_cast<uint32_t>(b.firstSerial),
                         static_cast<uint32_t>(b.firstSerial >> 32)};
       region[i].sums = {static_cast<uint32_t>(births), 0u, 0u, 0u};
@@ -460,7 +470,7 @@ void GpuSimulation::Impl::record(const Scene& scene, VkCommandBuffer commands, u
   if (flow)
     flow->record(commands, scene,
                  {slot.schedule.get(), slot.sceneParams.get(), slot.flowParams.get(), slot.capacity,
-                  &slot.sets},
+                  &slot.sets, &slot.flowBirths, &slot.flowStaging},
                  slot.planned, chunks);
   slot.planned = 0;
 }
