@@ -485,8 +485,10 @@ TEST(PublishedSolutions, HuppertsSpreadingPoolAtAFrame) {
   expectHolds("huppert-spread --dts 0.008333333333333333");
 }
 
-TEST(PublishedSolutions, MartinAndMoycesDamBreakAtOneMillisecond) {
-  expectHolds("dam-break --dts 0.001");
+// At 1 ms and at a frame. When undoing compression gave the particles speed, the front ran
+// 14% ahead at a frame (docs/flow.md): the test can fail.
+TEST(PublishedSolutions, MartinAndMoycesDamBreak) {
+  expectHolds("dam-break");
 }
 
 // A block of 10^3 lattice sites between four walls, at 1 ms and at a frame: its fastest

@@ -184,9 +184,11 @@ FlowStepper::FlowStepper(const Reference& reference, unsigned threads)
     pairs_.resize(flow * kNeighbourCap);
     own_.resize(flow);
     pressure_.resize(flow);
-    for (std::vector<float>* v : {&lambda_, &rhs_, &ar_, &az_, &ap_, &aq_}) v->resize(flow);
+    for (std::vector<float>* v : {&lambda_, &rhs_, &ar_, &az_, &ap_, &aq_, &lambdaP_, &rhsP_})
+      v->resize(flow);
     u_.resize(flow);
     w_.resize(flow);
+    pseudo_.resize(flow);
     count_.resize(flow);
     at_.resize(flow);
     place_.resize(flow);

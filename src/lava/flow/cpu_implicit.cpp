@@ -1,8 +1,9 @@
 // The implicit flow on the CPU (docs/model.md, "The implicit flow"). A step is cut into
 // substeps by a CFL bound; each substep finds every particle's neighbours once, applies the
-// forces, projects the velocities onto the density constraint (a conjugate gradient, its
-// velocity changes smoothed), then solves the viscosity implicitly (a Jacobi-preconditioned
-// conjugate gradient per component), and moves. Its values are kept along the Z-order curve
+// forces, projects the velocities onto the density constraint (conjugate gradients, its
+// velocity changes smoothed; the share that undoes compression moves the positions only),
+// then solves the viscosity implicitly (a Jacobi-preconditioned conjugate gradient per
+// component), and moves. Its values are kept along the Z-order curve
 // of the cells (arrange()); every sum runs in an order fixed by the state (flow index order
 // for the CGs' dot products), in plain float32 built with -ffp-contract=off: gathers only,
 // the same bits for any thread count.
@@ -572,7 +573,9 @@ void FlowStepper::smoothingWeights() {
   });
 }
 
-// The density constraint's active set, right side and start: the last substep's pressures.
+// The density constraint's active set, right sides and start: the last substep's pressures.
+// The right side is the velocities' share (the predicted compression rate) plus the
+// positions' (the compression beyond rest to undo, rhsP_).
 void FlowStepper::densitySystem(const State& state, float hs, float invHs) {
   smoothingWeights();
   parallel(flowSlots_.size(), [&](size_t e) {
@@ -581,31 +584,34 @@ void FlowStepper::densitySystem(const State& state, float hs, float invHs) {
     u_[f] = V3f{0.0f, 0.0f, 0.0f};
     if (!o.liquid) {  // its multiplier is read by its liquid neighbours' push: none
       o.active = 0;
-      lambda_[f] = 0.0f;
+      lambda_[f] = lambdaP_[f] = rhsP_[f] = 0.0f;
       return;
     }
     const float warm = state.pressure[at_[f]];
     // Compression beyond rest is undone in the substep; a sparser bulk is not pulled in.
-    const float c = kCorrection * std::max(o.theta - 1.0f, 0.0f) + hs * rateOf(f, v_);
-    rhs_[f] = c * invHs;
+    const float undo = kCorrection * std::max(o.theta - 1.0f, 0.0f);
+    rhs_[f] = (undo + hs * rateOf(f, v_)) * invHs;
+    rhsP_[f] = undo * invHs;
     o.active = o.theta > 1.0f - kSurface || warm > 0.0f;
     lambda_[f] = o.active ? warm * hs : 0.0f;
+    lambdaP_[f] = 0.0f;
   });
 }
 
-void FlowStepper::solveDensity(const State& state, float hs, float invHs) {
+// x solves (J S J^T + epsilon) x = rhs on the active set by CG from x, Jacobi-preconditioned,
+// until r.z <= pressureTolerance2 b.(b / D) or kPressureIterations.
+void FlowStepper::solveConstraint(const std::vector<float>& rhs, std::vector<float>& x, float hs) {
   const size_t n = flowSlots_.size();
-  densitySystem(state, hs, invHs);
-  multiplyDensity(lambda_, aq_);
+  multiplyDensity(x, aq_);
   parallel(n, [&](size_t f) {
     const Own& o = own_[f];
-    ar_[f] = o.active ? rhs_[f] - aq_[f] : 0.0f;
+    ar_[f] = o.active ? rhs[f] - aq_[f] : 0.0f;
     az_[f] = o.active ? tiny((o.invG * hs) * ar_[f]) : 0.0f;
     ap_[f] = az_[f];
   });
   float rz = orderedSum(place_, [&](size_t f) { return tiny(ar_[f] * az_[f]); });
   const float bb = orderedSum(place_, [&](size_t f) {
-    return own_[f].active ? tiny(rhs_[f] * ((own_[f].invG * hs) * rhs_[f])) : 0.0f;
+    return own_[f].active ? tiny(rhs[f] * ((own_[f].invG * hs) * rhs[f])) : 0.0f;
   });
   const float limit = ik_.pressureTolerance2 * bb;
   bool active = rz > limit;
@@ -616,7 +622,7 @@ void FlowStepper::solveDensity(const State& state, float hs, float invHs) {
     const float alpha = rz * reciprocal(pq);
     parallel(n, [&](size_t f) {
       if (!own_[f].active) return;
-      lambda_[f] = lambda_[f] + tiny(alpha * ap_[f]);
+      x[f] = x[f] + tiny(alpha * ap_[f]);
       ar_[f] = ar_[f] - tiny(alpha * aq_[f]);
       az_[f] = tiny((own_[f].invG * hs) * ar_[f]);
     });
@@ -628,12 +634,30 @@ void FlowStepper::solveDensity(const State& state, float hs, float invHs) {
       if (own_[f].active) ap_[f] = az_[f] + tiny(beta * ap_[f]);
     });
   }
-  parallel(n, [&](size_t f) { lambda_[f] = std::max(lambda_[f], 0.0f); });
-  correction(lambda_);
+}
+
+// The multipliers m >= 0 of the whole right side, and of its positions' share p, 0 <= p <= m
+// (docs/model.md, "The implicit flow"): the velocities move by -S J^T (m - p); the positions'
+// share moves the particles in this substep only (pseudo_), so that undoing a compression
+// gives no particle speed.
+void FlowStepper::solveDensity(const State& state, float hs, float invHs) {
+  const size_t n = flowSlots_.size();
+  densitySystem(state, hs, invHs);
+  solveConstraint(rhs_, lambda_, hs);
+  solveConstraint(rhsP_, lambdaP_, hs);
   parallel(n, [&](size_t f) {
-    if (!own_[f].liquid) return;
-    v_[f] = stored(of(v_[f]) + of(w_[f]));
+    lambda_[f] = std::max(lambda_[f], 0.0f);
+    lambdaP_[f] = std::min(std::max(lambdaP_[f], 0.0f), lambda_[f]);
     own_[f].total = lambda_[f];
+  });
+  correction(lambdaP_);
+  parallel(n, [&](size_t f) {
+    pseudo_[f] = own_[f].liquid ? w_[f] : V3f{0.0f, 0.0f, 0.0f};
+    lambdaP_[f] = lambda_[f] - lambdaP_[f];
+  });
+  correction(lambdaP_);
+  parallel(n, [&](size_t f) {
+    if (own_[f].liquid) v_[f] = stored(of(v_[f]) + of(w_[f]));
   });
 }
 
@@ -675,7 +699,7 @@ void FlowStepper::move(State& state, float hs, float fraction, float invHs) {
       const EmitterConstants& ek = reference_.constants(emitter);
       if (o.liquid) {
         v = Model::flushed(of(v_[f]));
-        x = x + hs * v;
+        x = x + hs * (v + of(pseudo_[f]));
       } else if (o.touches) {  // a solid touching crust or a solid: crust where it is
         becomesCrust = true;
       } else {  // a cinder: falls as any particle

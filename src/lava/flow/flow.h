@@ -138,6 +138,7 @@ class FlowStepper {
   void smooth(const std::vector<V3f>& u, std::vector<V3f>& w) const;
   void smoothingWeights();
   void correction(const std::vector<float>& m);  // w_ = S u_, u_ = -J^T m
+  void solveConstraint(const std::vector<float>& rhs, std::vector<float>& x, float hs);
   void solveDensity(const State& state, float hs, float invHs);
   float conducted(const State& state, uint32_t f, float conduction) const;
   float rateOf(uint32_t f, const std::vector<V3f>& u) const;
@@ -216,6 +217,10 @@ class FlowStepper {
   // residual, direction and product; u the velocity change of a product, w it smoothed.
   std::vector<float> lambda_, rhs_, ar_, az_, ap_, aq_;
   std::vector<V3f> u_, w_;
+  // The constraint's positions' share: its multipliers and right side, and the substep's
+  // move it makes besides the velocity (a pseudo-velocity, m/s).
+  std::vector<float> lambdaP_, rhsP_;
+  std::vector<V3f> pseudo_;
 };
 
 }  // namespace lava::detail
