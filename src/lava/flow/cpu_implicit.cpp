@@ -599,8 +599,9 @@ void FlowStepper::densitySystem(const State& state, float hs, float invHs) {
 }
 
 // x solves (J S J^T + epsilon) x = rhs on the active set by CG from x, Jacobi-preconditioned,
-// until r.z <= pressureTolerance2 b.(b / D) or kPressureIterations.
-void FlowStepper::solveConstraint(const std::vector<float>& rhs, std::vector<float>& x, float hs) {
+// until r.z <= limit or kPressureIterations.
+void FlowStepper::solveConstraint(const std::vector<float>& rhs, std::vector<float>& x, float hs,
+                                  float limit) {
   const size_t n = flowSlots_.size();
   multiplyDensity(x, aq_);
   parallel(n, [&](size_t f) {
@@ -610,10 +611,6 @@ void FlowStepper::solveConstraint(const std::vector<float>& rhs, std::vector<flo
     ap_[f] = az_[f];
   });
   float rz = orderedSum(place_, [&](size_t f) { return tiny(ar_[f] * az_[f]); });
-  const float bb = orderedSum(place_, [&](size_t f) {
-    return own_[f].active ? tiny(rhs[f] * ((own_[f].invG * hs) * rhs[f])) : 0.0f;
-  });
-  const float limit = ik_.pressureTolerance2 * bb;
   bool active = rz > limit;
   for (uint32_t k = 0; k < kPressureIterations && active; ++k) {
     multiplyDensity(ap_, aq_);
@@ -643,8 +640,13 @@ void FlowStepper::solveConstraint(const std::vector<float>& rhs, std::vector<flo
 void FlowStepper::solveDensity(const State& state, float hs, float invHs) {
   const size_t n = flowSlots_.size();
   densitySystem(state, hs, invHs);
-  solveConstraint(rhs_, lambda_, hs);
-  solveConstraint(rhsP_, lambdaP_, hs);
+  // Both CGs stop at pressureTolerance2 b.(b / D) of the whole right side: the positions'
+  // share is as accurate as the whole, however small it is.
+  const float bb = orderedSum(place_, [&](size_t f) {
+    return own_[f].active ? tiny(rhs_[f] * ((own_[f].invG * hs) * rhs_[f])) : 0.0f;
+  });
+  solveConstraint(rhs_, lambda_, hs, ik_.pressureTolerance2 * bb);
+  solveConstraint(rhsP_, lambdaP_, hs, ik_.pressureTolerance2 * bb);
   parallel(n, [&](size_t f) {
     lambda_[f] = std::max(lambda_[f], 0.0f);
     lambdaP_[f] = std::min(std::max(lambdaP_[f], 0.0f), lambda_[f]);
