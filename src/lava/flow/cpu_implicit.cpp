@@ -3,10 +3,10 @@
 // forces, projects the velocities onto the density constraint (conjugate gradients, its
 // velocity changes smoothed; the share that undoes compression moves the positions only),
 // then solves the viscosity implicitly (a Jacobi-preconditioned conjugate gradient per
-// component), and moves. Its values are kept along the Z-order curve
-// of the cells (arrange()); every sum runs in an order fixed by the state (flow index order
-// for the CGs' dot products), in plain float32 built with -ffp-contract=off: gathers only,
-// the same bits for any thread count.
+// component), and moves. Its values are kept along the Z-order curve of the cells
+// (arrange()); every sum runs in an order fixed by the state (flow index order for the CGs'
+// dot products), in plain float32 built with -ffp-contract=off: gathers only, the same bits
+// for any thread count.
 #include <algorithm>
 #include <cmath>
 
@@ -655,7 +655,7 @@ void FlowStepper::solveDensity(const State& state, float hs, float invHs) {
   correction(lambdaP_);
   parallel(n, [&](size_t f) {
     pseudo_[f] = own_[f].liquid ? w_[f] : V3f{0.0f, 0.0f, 0.0f};
-    lambdaP_[f] = lambda_[f] - lambdaP_[f];
+    lambdaP_[f] = lambda_[f] - lambdaP_[f];  // from here, the velocities' share m - p
   });
   correction(lambdaP_);
   parallel(n, [&](size_t f) {
