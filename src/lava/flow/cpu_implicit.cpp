@@ -599,14 +599,14 @@ void FlowStepper::densitySystem(const State& state, float hs, float invHs) {
 }
 
 // x solves (J S J^T + epsilon) x = rhs on the active set by CG from x, Jacobi-preconditioned,
-// until r.z <= limit or kPressureIterations.
+// until r.z <= limit or kPressureIterations. From x = 0 (fromZero) the first product is 0.
 void FlowStepper::solveConstraint(const std::vector<float>& rhs, std::vector<float>& x, float hs,
-                                  float limit) {
+                                  float limit, bool fromZero) {
   const size_t n = flowSlots_.size();
-  multiplyDensity(x, aq_);
+  if (!fromZero) multiplyDensity(x, aq_);
   parallel(n, [&](size_t f) {
     const Own& o = own_[f];
-    ar_[f] = o.active ? rhs[f] - aq_[f] : 0.0f;
+    ar_[f] = o.active ? (fromZero ? rhs[f] : rhs[f] - aq_[f]) : 0.0f;
     az_[f] = o.active ? tiny((o.invG * hs) * ar_[f]) : 0.0f;
     ap_[f] = az_[f];
   });
@@ -645,8 +645,8 @@ void FlowStepper::solveDensity(const State& state, float hs, float invHs) {
   const float bb = orderedSum(place_, [&](size_t f) {
     return own_[f].active ? tiny(rhs_[f] * ((own_[f].invG * hs) * rhs_[f])) : 0.0f;
   });
-  solveConstraint(rhs_, lambda_, hs, ik_.pressureTolerance2 * bb);
-  solveConstraint(rhsP_, lambdaP_, hs, ik_.pressureTolerance2 * bb);
+  solveConstraint(rhs_, lambda_, hs, ik_.pressureTolerance2 * bb, false);
+  solveConstraint(rhsP_, lambdaP_, hs, ik_.pressureTolerance2 * bb, true);
   parallel(n, [&](size_t f) {
     lambda_[f] = std::max(lambda_[f], 0.0f);
     lambdaP_[f] = std::min(std::max(lambdaP_[f], 0.0f), lambda_[f]);

@@ -139,7 +139,7 @@ class FlowStepper {
   void smoothingWeights();
   void correction(const std::vector<float>& m);  // w_ = S u_, u_ = -J^T m
   void solveConstraint(const std::vector<float>& rhs, std::vector<float>& x, float hs,
-                       float limit);
+                       float limit, bool fromZero);
   void solveDensity(const State& state, float hs, float invHs);
   float conducted(const State& state, uint32_t f, float conduction) const;
   float rateOf(uint32_t f, const std::vector<V3f>& u) const;
