@@ -55,6 +55,9 @@ long+="|^Effects/Modules\\.$modules|^GpuTest\\.CpuThreadCounts"
 # "all" scene: the host code of each is in the shorter tests here, the CPU reference's time
 # four times over.
 long+='|^GpuTest\.(RandomScenes|BirthsOfManyEmitters)|^Effects/Modules\.Resume[^ ]*/all '
+# And the implicit flow on the GPU backend: the host's stepper, which the FlowImplicit tests
+# in the first run take, and copies (the third run's render and demo --backend gpu take it).
+long+='|^GpuFlow\.TheImplicitFlowIsSteppedOnTheHost'
 # And the longest GPU runs of host code that shorter tests here take too: 512 chunks (the
 # limits' tests chunk as each vendor would) and the flow's standing boxes and tilted pool (its
 # grid, point burst and lattice tests run the same passes).
