@@ -16,7 +16,7 @@ namespace {
 
 constexpr VkDeviceSize kParticleBytes = sizeof(Particle);
 
-bool onHost(const Scene& scene) {
+bool steppedOnHost(const Scene& scene) {
   return scene.flow->solver == FlowSolver::Implicit;
 }
 
@@ -86,7 +86,7 @@ GpuFlow::GpuFlow(DeviceContext& c, const Scene& scene)
               VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUse::Upload),
       readback_(c, VkDeviceSize{slots_} * sizeof(gpu::FlowHeat), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                 MemoryUse::Readback) {
-  if (onHost(scene)) {
+  if (steppedOnHost(scene)) {
     host_ = std::make_unique<HostStep>(scene);
     return;
   }

@@ -56,6 +56,7 @@ class GpuFlow {
   void download(State& state);
 
   GpuSimulation::FlowBuffers buffers() const;
+  bool onHost() const { return host_ != nullptr; }  // the implicit flow: stepped on the host
 
  private:
   VkPipeline pipeline(const Scene& scene);

@@ -292,9 +292,7 @@ GpuSimulation::~GpuSimulation() = default;
 
 std::string GpuSimulation::name() const {
   return std::string("gpu (") + impl_->c.properties.deviceName + ")" +
-         (scene_.flow && scene_.flow->solver == FlowSolver::Implicit && scene_.flows()
-              ? ", the implicit flow on the host"
-              : "");
+         (impl_->flow && impl_->flow->onHost() ? ", the implicit flow on the host" : "");
 }
 
 const std::vector<ParticleChunk>& GpuSimulation::chunks() const {
