@@ -70,12 +70,15 @@ icd=$(sed -n 's/.*"library_path": *"\([^"]*\)".*/\1/p' \
       "${LAVA_LAVAPIPE_ICD:-/usr/share/vulkan/icd.d/lvp_icd.x86_64.json}")
 echo "sanitize: the program's tests with leak checking (preloaded: $icd, the fault layer)"
 # Six gtest shards, two at a time, each taken by whichever core is free: the fault-injection
-# tables are long, and two fixed halves finished minutes apart.
+# tables are long, and two fixed halves finished minutes apart. Their runs are short programs
+# (0.3 s each without the sanitizers) that allocate and free hundreds of megabytes compiling
+# lavapipe's pipelines. Freed memory is held back 32 MB deep (256 by default): a use after free
+# is still caught unless 32 MB were freed in between, and each run is 12 to 23% shorter.
 shard() {
   env VK_DRIVER_FILES="${LAVA_LAVAPIPE_ICD:-/usr/share/vulkan/icd.d/lvp_icd.x86_64.json}" \
       LAVA_VALIDATION=0 GTEST_TOTAL_SHARDS=6 GTEST_SHARD_INDEX=$1 GTEST_FILTER="-$slow" \
       LD_PRELOAD="$icd $PWD/build-asan/tests/fault/liblava_fault_layer.so" \
-      ASAN_OPTIONS=detect_leaks=1:verify_asan_link_order=0 \
+      ASAN_OPTIONS=detect_leaks=1:verify_asan_link_order=0:quarantine_size_mb=32 \
       LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp \
       build-asan/tests/lava_cli_tests > "build-asan/cli-shard-$1.log" 2>&1
 }

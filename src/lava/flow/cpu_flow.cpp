@@ -184,10 +184,12 @@ FlowStepper::FlowStepper(const Reference& reference, unsigned threads)
     pairs_.resize(flow * kNeighbourCap);
     own_.resize(flow);
     pressure_.resize(flow);
-    for (std::vector<float>* v : {&lambda_, &rhs_, &ar_, &az_, &ap_, &aq_, &lambdaP_, &rhsP_})
-      v->resize(flow);
-    u_.resize(flow);
-    w_.resize(flow);
+    for (std::vector<float>* v : {&lambda_, &rhs_, &lambdaP_, &rhsP_}) v->resize(flow);
+    for (unsigned k = 0; k < 2; ++k) {
+      for (std::vector<float>* v : {&ar_[k], &az_[k], &ap_[k], &aq_[k]}) v->resize(flow);
+      u_[k].resize(flow);
+      w_[k].resize(flow);
+    }
     pseudo_.resize(flow);
     count_.resize(flow);
     at_.resize(flow);

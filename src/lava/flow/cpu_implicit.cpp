@@ -493,43 +493,64 @@ float FlowStepper::pressureOf(uint32_t f) const {
   return weights_[emitterOfSlot_[at_[f]]].pressure;
 }
 
-// d theta_f / dt of velocities u: sum_j -pressure_j e_fj . (u_f - u_j) + gradWall . u_f.
-float FlowStepper::rateOf(uint32_t f, const std::vector<V3f>& u) const {
-  const V uf = of(u[f]);
-  float rate = 0.0f;
+// d theta_f / dt of velocities u: sum_j -pressure_j e_fj . (u_f - u_j) + gradWall . u_f, for
+// each lane's u in one pass over f's pairs; each lane's sum in the order of one alone.
+template <unsigned N>
+std::array<float, N> FlowStepper::rateOf(uint32_t f,
+                                         const std::array<const std::vector<V3f>*, N>& u) const {
+  V uf[N];
+  std::array<float, N> rate{};
+  for (unsigned k = 0; k < N; ++k) uf[k] = of((*u[k])[f]);
   const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
   for (uint32_t c = 0; c < count_[f]; ++c)
-    rate = rate - tiny(list[c].pressure * dot(of(list[c].e), uf - of(u[list[c].j])));
-  return rate + tiny(dot(of(gradWall_[f]), uf));
+    for (unsigned k = 0; k < N; ++k)
+      rate[k] = rate[k] - tiny(list[c].pressure * dot(of(list[c].e), uf[k] - of((*u[k])[list[c].j])));
+  for (unsigned k = 0; k < N; ++k) rate[k] = rate[k] + tiny(dot(of(gradWall_[f]), uf[k]));
+  return rate;
 }
 
-// The velocity change of liquid f from the multipliers m (0 outside the active set):
-// sum_j (m_f pressure_j + m_j pressure_f) e_fj - m_f gradWall_f, i.e. -J^T m.
-V3f FlowStepper::pushOf(uint32_t f, const std::vector<float>& m) const {
-  const float mine = pressureOf(f);
-  V dv{0.0f, 0.0f, 0.0f};
-  const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
-  for (uint32_t c = 0; c < count_[f]; ++c)
-    dv = dv + tiny((m[f] * list[c].pressure + m[list[c].j] * mine) * of(list[c].e));
-  return stored(dv - tiny(m[f] * of(gradWall_[f])));
+// u = -J^T m, the velocity change of liquid f from the multipliers m (0 outside the active
+// set): sum_j (m_f pressure_j + m_j pressure_f) e_fj - m_f gradWall_f; then w = S u.
+template <unsigned N>
+void FlowStepper::correction(const Multipliers<N>& m, const Lanes<N>& lane) {
+  parallel(flowSlots_.size(), [&](size_t e) {
+    const uint32_t f = uint32_t(e);
+    if (!own_[f].liquid) return;
+    const float mine = pressureOf(f);
+    V dv[N];
+    for (unsigned k = 0; k < N; ++k) dv[k] = V{0.0f, 0.0f, 0.0f};
+    const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+    for (uint32_t c = 0; c < count_[f]; ++c)
+      for (unsigned k = 0; k < N; ++k)
+        dv[k] = dv[k] + tiny(((*m[k])[f] * list[c].pressure + (*m[k])[list[c].j] * mine) *
+                             of(list[c].e));
+    for (unsigned k = 0; k < N; ++k)
+      u_[lane[k]][f] = stored(dv[k] - tiny((*m[k])[f] * of(gradWall_[f])));
+  });
+  smooth<N>(lane);
 }
 
 // w = S u = u - kSmoothing sum_j weight_fj (u_f - u_j) on the liquid particles, 0 on the
 // others, weight_fj = t^2 min(1/d_f, 1/d_j) (0 for a solid j): symmetric, and by Gershgorin's
 // bound positive semi-definite, so that J S J^T stays a CG's matrix; the pairs cancel, so
 // momentum is kept.
-void FlowStepper::smooth(const std::vector<V3f>& u, std::vector<V3f>& w) const {
+template <unsigned N>
+void FlowStepper::smooth(const Lanes<N>& lane) {
   parallel(flowSlots_.size(), [&](size_t f) {
     if (!own_[f].liquid) {
-      w[f] = V3f{0.0f, 0.0f, 0.0f};
+      for (unsigned k = 0; k < N; ++k) w_[lane[k]][f] = V3f{0.0f, 0.0f, 0.0f};
       return;
     }
-    const V uf = of(u[f]);
-    V sum{0.0f, 0.0f, 0.0f};
+    V uf[N], sum[N];
+    for (unsigned k = 0; k < N; ++k) {
+      uf[k] = of(u_[lane[k]][f]);
+      sum[k] = V{0.0f, 0.0f, 0.0f};
+    }
     const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
     for (uint32_t c = 0; c < count_[f]; ++c)
-      sum = sum + tiny(list[c].weight * (uf - of(u[list[c].j])));
-    w[f] = stored(uf - tiny(kSmoothing * sum));
+      for (unsigned k = 0; k < N; ++k)
+        sum[k] = sum[k] + tiny(list[c].weight * (uf[k] - of(u_[lane[k]][list[c].j])));
+    for (unsigned k = 0; k < N; ++k) w_[lane[k]][f] = stored(uf[k] - tiny(kSmoothing * sum[k]));
   });
 }
 
@@ -539,20 +560,18 @@ void FlowStepper::smooth(const std::vector<V3f>& u, std::vector<V3f>& w) const {
 // density error; solved by CG from the last substep's pressures, then m >= 0 kept and the
 // velocities moved by -S J^T m.
 // q = (J S J^T + epsilon) x on the active set: u = -J^T x, w = S u, then q = -J w + epsilon x.
-void FlowStepper::multiplyDensity(const std::vector<float>& x, std::vector<float>& q) {
-  const size_t n = flowSlots_.size();
-  correction(x);
-  parallel(n, [&](size_t f) {
-    q[f] = own_[f].active ? tiny(ik_.epsilon * x[f]) - rateOf(uint32_t(f), w_) : 0.0f;
-  });
-}
-
-// w = S u, u = -J^T m: the velocity change of the multipliers m.
-void FlowStepper::correction(const std::vector<float>& m) {
+template <unsigned N>
+void FlowStepper::multiplyDensity(const Multipliers<N>& x, const Lanes<N>& lane) {
+  correction<N>(x, lane);
+  std::array<const std::vector<V3f>*, N> w;
+  for (unsigned k = 0; k < N; ++k) w[k] = &w_[lane[k]];
   parallel(flowSlots_.size(), [&](size_t f) {
-    if (own_[f].liquid) u_[f] = pushOf(uint32_t(f), m);
+    const bool active = own_[f].active;
+    const std::array<float, N> rate =
+        active ? rateOf<N>(uint32_t(f), w) : std::array<float, N>{};
+    for (unsigned k = 0; k < N; ++k)
+      aq_[lane[k]][f] = active ? tiny(ik_.epsilon * (*x[k])[f]) - rate[k] : 0.0f;
   });
-  smooth(u_, w_);
 }
 
 // S's weights: each liquid particle's 1/d, then each pair's t^2 min(1/d_f, 1/d_j).
@@ -581,7 +600,7 @@ void FlowStepper::densitySystem(const State& state, float hs, float invHs) {
   parallel(flowSlots_.size(), [&](size_t e) {
     const uint32_t f = uint32_t(e);
     Own& o = own_[f];
-    u_[f] = V3f{0.0f, 0.0f, 0.0f};
+    u_[0][f] = u_[1][f] = V3f{0.0f, 0.0f, 0.0f};
     if (!o.liquid) {  // its multiplier is read by its liquid neighbours' push: none
       o.active = 0;
       lambda_[f] = lambdaP_[f] = rhsP_[f] = 0.0f;
@@ -590,7 +609,7 @@ void FlowStepper::densitySystem(const State& state, float hs, float invHs) {
     const float warm = state.pressure[at_[f]];
     // Compression beyond rest is undone in the substep; a sparser bulk is not pulled in.
     const float undo = kCorrection * std::max(o.theta - 1.0f, 0.0f);
-    rhs_[f] = (undo + hs * rateOf(f, v_)) * invHs;
+    rhs_[f] = (undo + hs * rateOf<1>(f, {&v_})[0]) * invHs;
     rhsP_[f] = undo * invHs;
     o.active = o.theta > 1.0f - kSurface || warm > 0.0f;
     lambda_[f] = o.active ? warm * hs : 0.0f;
@@ -598,37 +617,64 @@ void FlowStepper::densitySystem(const State& state, float hs, float invHs) {
   });
 }
 
-// x solves (J S J^T + epsilon) x = rhs on the active set by CG from x, Jacobi-preconditioned,
-// until r.z <= limit or kPressureIterations. From x = 0 (fromZero) the first product is 0.
-void FlowStepper::solveConstraint(const std::vector<float>& rhs, std::vector<float>& x, float hs,
-                                  float limit, bool fromZero) {
+// Both of the constraint's systems, (J S J^T + epsilon) x = b on the active set: lambda_ for
+// rhs_ from the last substep's pressures (lane 0), lambdaP_ for rhsP_ from 0 (lane 1). Each
+// is a Jacobi-preconditioned CG until its r.z <= limit or kPressureIterations; they run side
+// by side, their products in one pass over the pairs while both run, each lane's bits those
+// of its CG alone.
+void FlowStepper::solveConstraints(float hs, float limit) {
   const size_t n = flowSlots_.size();
-  if (!fromZero) multiplyDensity(x, aq_);
+  std::vector<float>* x[2] = {&lambda_, &lambdaP_};
+  multiplyDensity<1>({&lambda_}, {0});
   parallel(n, [&](size_t f) {
     const Own& o = own_[f];
-    ar_[f] = o.active ? (fromZero ? rhs[f] : rhs[f] - aq_[f]) : 0.0f;
-    az_[f] = o.active ? tiny((o.invG * hs) * ar_[f]) : 0.0f;
-    ap_[f] = az_[f];
+    const float r[2] = {rhs_[f] - aq_[0][f], rhsP_[f]};
+    for (unsigned k = 0; k < 2; ++k) {
+      ar_[k][f] = o.active ? r[k] : 0.0f;
+      az_[k][f] = o.active ? tiny((o.invG * hs) * ar_[k][f]) : 0.0f;
+      ap_[k][f] = az_[k][f];
+    }
   });
-  float rz = orderedSum(place_, [&](size_t f) { return tiny(ar_[f] * az_[f]); });
-  bool active = rz > limit;
-  for (uint32_t k = 0; k < kPressureIterations && active; ++k) {
-    multiplyDensity(ap_, aq_);
-    const float pq = orderedSum(place_, [&](size_t f) { return tiny(ap_[f] * aq_[f]); });
-    if (!(pq > 0.0f)) break;
-    const float alpha = rz * reciprocal(pq);
+  const auto rzOf = [&](unsigned k) {
+    return orderedSum(place_, [&](size_t f) { return tiny(ar_[k][f] * az_[k][f]); });
+  };
+  float rz[2] = {rzOf(0), rzOf(1)};
+  bool active[2] = {rz[0] > limit, rz[1] > limit};
+  for (uint32_t it = 0; it < kPressureIterations && (active[0] || active[1]); ++it) {
+    if (active[0] && active[1])
+      multiplyDensity<2>({&ap_[0], &ap_[1]}, {0, 1});
+    else if (active[0])
+      multiplyDensity<1>({&ap_[0]}, {0});
+    else
+      multiplyDensity<1>({&ap_[1]}, {1});
+    float alpha[2] = {0.0f, 0.0f};
+    for (unsigned k = 0; k < 2; ++k) {
+      if (!active[k]) continue;
+      const float pq = orderedSum(place_, [&](size_t f) { return tiny(ap_[k][f] * aq_[k][f]); });
+      active[k] = pq > 0.0f;
+      if (active[k]) alpha[k] = rz[k] * reciprocal(pq);
+    }
     parallel(n, [&](size_t f) {
       if (!own_[f].active) return;
-      x[f] = x[f] + tiny(alpha * ap_[f]);
-      ar_[f] = ar_[f] - tiny(alpha * aq_[f]);
-      az_[f] = tiny((own_[f].invG * hs) * ar_[f]);
+      for (unsigned k = 0; k < 2; ++k) {
+        if (!active[k]) continue;
+        (*x[k])[f] = (*x[k])[f] + tiny(alpha[k] * ap_[k][f]);
+        ar_[k][f] = ar_[k][f] - tiny(alpha[k] * aq_[k][f]);
+        az_[k][f] = tiny((own_[f].invG * hs) * ar_[k][f]);
+      }
     });
-    const float next = orderedSum(place_, [&](size_t f) { return tiny(ar_[f] * az_[f]); });
-    const float beta = next * reciprocal(rz);
-    rz = next;
-    active = next > limit;
+    float beta[2] = {0.0f, 0.0f};
+    for (unsigned k = 0; k < 2; ++k) {
+      if (!active[k]) continue;
+      const float next = rzOf(k);
+      beta[k] = next * reciprocal(rz[k]);
+      rz[k] = next;
+      active[k] = next > limit;
+    }
     parallel(n, [&](size_t f) {
-      if (own_[f].active) ap_[f] = az_[f] + tiny(beta * ap_[f]);
+      if (!own_[f].active) return;
+      for (unsigned k = 0; k < 2; ++k)
+        if (active[k]) ap_[k][f] = az_[k][f] + tiny(beta[k] * ap_[k][f]);
     });
   }
 }
@@ -645,21 +691,17 @@ void FlowStepper::solveDensity(const State& state, float hs, float invHs) {
   const float bb = orderedSum(place_, [&](size_t f) {
     return own_[f].active ? tiny(rhs_[f] * ((own_[f].invG * hs) * rhs_[f])) : 0.0f;
   });
-  solveConstraint(rhs_, lambda_, hs, ik_.pressureTolerance2 * bb, false);
-  solveConstraint(rhsP_, lambdaP_, hs, ik_.pressureTolerance2 * bb, true);
+  solveConstraints(hs, ik_.pressureTolerance2 * bb);
   parallel(n, [&](size_t f) {
     lambda_[f] = std::max(lambda_[f], 0.0f);
     lambdaP_[f] = std::min(std::max(lambdaP_[f], 0.0f), lambda_[f]);
     own_[f].total = lambda_[f];
+    lambda_[f] = lambda_[f] - lambdaP_[f];  // from here, the velocities' share m - p
   });
-  correction(lambdaP_);
+  correction<2>({&lambdaP_, &lambda_}, {0, 1});
   parallel(n, [&](size_t f) {
-    pseudo_[f] = own_[f].liquid ? w_[f] : V3f{0.0f, 0.0f, 0.0f};
-    lambdaP_[f] = lambda_[f] - lambdaP_[f];  // from here, the velocities' share m - p
-  });
-  correction(lambdaP_);
-  parallel(n, [&](size_t f) {
-    if (own_[f].liquid) v_[f] = stored(of(v_[f]) + of(w_[f]));
+    pseudo_[f] = own_[f].liquid ? w_[0][f] : V3f{0.0f, 0.0f, 0.0f};
+    if (own_[f].liquid) v_[f] = stored(of(v_[f]) + of(w_[1][f]));
   });
 }
 

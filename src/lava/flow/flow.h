@@ -3,6 +3,7 @@
 // the state alone: the grid's buckets in order, each bucket's particles by slot, the 27 cells
 // around a particle in a fixed order.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -133,17 +134,27 @@ class FlowStepper {
   // hs m_f viscous_j (nu_f + nu_j): times a pair's weights, its share of f's row.
   float viscousCoefficient(uint32_t f, uint32_t j, float hs) const;
   void densitySystem(const State& state, float hs, float invHs);
-  void multiplyDensity(const std::vector<float>& x, std::vector<float>& q);
+  // The density constraint's CGs run side by side (solveConstraints): a product, or a
+  // correction, takes one or two lanes at once, lane k's multipliers m[k] into its own
+  // buffers (u_[lane[k]], w_[lane[k]], aq_[lane[k]]).
+  template <unsigned N>
+  using Multipliers = std::array<const std::vector<float>*, N>;
+  template <unsigned N>
+  using Lanes = std::array<unsigned, N>;
+  template <unsigned N>
+  void multiplyDensity(const Multipliers<N>& x, const Lanes<N>& lane);
+  template <unsigned N>
+  void correction(const Multipliers<N>& m, const Lanes<N>& lane);  // w = S u, u = -J^T m
   // w = S u on the liquid particles: the density constraint's velocity changes smoothed.
-  void smooth(const std::vector<V3f>& u, std::vector<V3f>& w) const;
+  template <unsigned N>
+  void smooth(const Lanes<N>& lane);
   void smoothingWeights();
-  void correction(const std::vector<float>& m);  // w_ = S u_, u_ = -J^T m
-  void solveConstraint(const std::vector<float>& rhs, std::vector<float>& x, float hs,
-                       float limit, bool fromZero);
+  void solveConstraints(float hs, float limit);
   void solveDensity(const State& state, float hs, float invHs);
   float conducted(const State& state, uint32_t f, float conduction) const;
-  float rateOf(uint32_t f, const std::vector<V3f>& u) const;
-  V3f pushOf(uint32_t f, const std::vector<float>& m) const;
+  // d theta_f / dt of each lane's velocities u[k].
+  template <unsigned N>
+  std::array<float, N> rateOf(uint32_t f, const std::array<const std::vector<V3f>*, N>& u) const;
   float pressureOf(uint32_t f) const;  // the pressure weight of the particle at place f
   void move(State& state, float hs, float fraction, float invHs);
   template <class Visit>
@@ -214,10 +225,11 @@ class FlowStepper {
   // direction, A p and right side.
   std::vector<V3f> gradWall_, v_, r_, z_, p_, q_, b_;
   std::vector<float> pressure_;  // the substep's results, written back with next_
-  // The density constraint's CG: multipliers, right side, residual, preconditioned
-  // residual, direction and product; u the velocity change of a product, w it smoothed.
-  std::vector<float> lambda_, rhs_, ar_, az_, ap_, aq_;
-  std::vector<V3f> u_, w_;
+  // The density constraint's multipliers and right side; each of its two CGs' residual,
+  // preconditioned residual, direction and product; u the velocity change of a product,
+  // w it smoothed.
+  std::vector<float> lambda_, rhs_, ar_[2], az_[2], ap_[2], aq_[2];
+  std::vector<V3f> u_[2], w_[2];
   // The constraint's positions' share: its multipliers and right side, and the substep's
   // move it makes besides the velocity (a pseudo-velocity, m/s).
   std::vector<float> lambdaP_, rhsP_;
