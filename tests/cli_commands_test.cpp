@@ -81,6 +81,23 @@ TEST(Simulate, SixteenMillionParticlesPastTheBindingRange) {
   EXPECT_NE(r.out.find("16777216 particles"), std::string::npos) << r.out;
 }
 
+TEST(Checkpoint, OneOfTheExplicitFlowWrittenBeforeTheImplicitWasTheDefaultResumesOnIt) {
+  // tests/data/explicit-flow-before-solver.npz: 100 steps of the .toml beside it on the
+  // explicit flow, as Lava wrote checkpoints before `solver` existed: its scene names none and
+  // it holds no pressures (tests/data/without_solver.py made it from one that named it).
+  // Resumed for 100 steps, on either backend: the hash of the explicit flow's 200 steps
+  // straight. The scene file itself now runs the implicit flow.
+  const std::string data = std::string(LAVA_SOURCE_DIR) + "/tests/data/explicit-flow-before-solver";
+  for (const char* backend : {"cpu", "gpu"}) {
+    const Result r = lava("simulate --resume " + data + ".npz --steps 100 --backend " + backend);
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("state hash a2cf1d354a3c6878"), std::string::npos) << backend << r.out;
+  }
+  const Result now = lava("simulate --scene " + data + ".toml --steps 200 --backend cpu");
+  ASSERT_EQ(now.status, 0) << now.err;
+  EXPECT_EQ(now.out.find("state hash a2cf1d354a3c6878"), std::string::npos) << now.out;
+}
+
 TEST(Checkpoint, HalvesResumedGiveTheStraightRunsBytes) {
   // N steps straight, or N/2 to a checkpoint and N/2 resumed from it: identical files, on
   // each backend and crossed over; validate starts from it too.
@@ -130,14 +147,22 @@ TEST(Demo, WithoutADisplayRendersHeadlessAndSaysWhere) {
   EXPECT_EQ(readFile(folder + "/frame_00001.png").substr(0, 4), "\x89PNG");
 }
 
+// A scene file of the explicit flow (scenes/modules/flow.toml names it) on the implicit one.
+std::string onTheImplicitFlow(std::string toml) {
+  const std::string explicitFlow = "solver = \"explicit\"";
+  const size_t at = toml.find(explicitFlow);
+  EXPECT_NE(at, std::string::npos) << "the scene names the explicit flow";
+  if (at != std::string::npos) toml.replace(at, explicitFlow.size(), "solver = \"implicit\"");
+  return toml;
+}
+
 TEST(Demo, TheCpuStepsTheImplicitFlowAndSaysSo) {
   // The implicit flow has no shader yet: the demo has the CPU step it (the device draws it)
   // unless --backend names the GPU, whose backend steps it on the host: the same frames.
   const std::string scene = scratch("demo-implicit.toml"), folder = scratch("demo-implicit");
   {
     std::ofstream out(scene);
-    out << readFile(std::string(LAVA_SOURCE_DIR) + "/scenes/modules/flow.toml")
-        << "solver = \"implicit\"\n";  // [flow] is the file's last table
+    out << onTheImplicitFlow(readFile(std::string(LAVA_SOURCE_DIR) + "/scenes/modules/flow.toml"));
   }
   const std::string flags = "demo --headless --frames 2 --size 96x64 --scene " + scene;
   Result r = lava(flags + " --out " + folder);
@@ -341,7 +366,7 @@ TEST(Render, TheCpuBackendStepsWhatTheDeviceDraws) {
   const std::string folder = scratch("backend-implicit"), implicitScene = scratch("implicit.toml");
   {
     std::ofstream out(implicitScene);
-    out << readFile(scene) << "solver = \"implicit\"\n";  // [flow] is the file's last table
+    out << onTheImplicitFlow(readFile(scene));
   }
   const std::string later = " --warmup 0.5 --frames 2 --fps 10 --size 96x64 --out " + folder;
   Result r = lava("render --backend gpu --scene " + scene + later);

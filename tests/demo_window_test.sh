@@ -161,7 +161,8 @@ echo "$out" | grep -q ", MIT-SHM; GPU" || { echo "FAIL: lavapipe on Xvfb did not
 # The implicit flow, which the GPU does not step: the CPU steps it and the device draws each
 # frame's state in the window, saying so, with the validation layers silent.
 implicit="$work/implicit.toml"
-{ cat "$(dirname "$0")/../scenes/modules/flow.toml"; echo 'solver = "implicit"'; } > "$implicit"
+sed 's/^solver = "explicit"/solver = "implicit"/' "$(dirname "$0")/../scenes/modules/flow.toml" > "$implicit"
+grep -q '^solver = "implicit"' "$implicit" || { echo "FAIL: flow.toml names no explicit solver"; exit 1; }
 out=$(xvfb-run -a -s "$screen" "$lava" demo --scene "$implicit" --frames 20 --size 320x180 2>&1)
 status=$?
 echo "implicit flow: $out"

@@ -20,11 +20,13 @@ namespace lava::test {
 
 using MakeSimulation = std::function<std::unique_ptr<Simulation>(const Scene&)>;
 
-// A scene of the default flow and one flow emitter of `n` slots, all born in one burst at
-// step 0 from `shape` at `position`: at rest, or scattered by `spread` (m/s).
+// A scene of the explicit flow (flow.comp's on the GPU; the implicit flow's tests set its
+// solver) and one flow emitter of `n` slots, all born in one burst at step 0 from `shape` at
+// `position`: at rest, or scattered by `spread` (m/s).
 inline Scene flowBurst(uint32_t n, Shape shape, Vec3 position, Vec3 spread = {}) {
   Scene s = oneEmitter(n, shape, position, {0.0f, 0.0f, 0.0f}, spread);
   s.flow.emplace();
+  s.flow->solver = FlowSolver::Explicit;
   Emitter& e = s.emitters[0];
   e.rate = 0.0;
   e.burst = n;

@@ -27,9 +27,10 @@ enum class ColliderType : uint32_t { Plane, Sphere, Box, Cone };
 // its one burst at rest on the cubic lattice of its spacing, centred in its box, sphere or
 // disc (docs/model.md, "Lattice fill").
 enum class Fill : uint32_t { Random, Lattice };
-// The flow's method (docs/model.md, "The flow" and "The implicit flow"): weakly compressible
-// SPH with explicit, capped viscosity (every backend), or a density constraint and viscosity
-// solved implicitly in substeps (the CPU backends so far).
+// The flow's method (docs/model.md, "The flow" and "The implicit flow"): a density constraint
+// and viscosity solved implicitly in substeps, viscosity as given at any step (the default;
+// the CPU backends step it, the GPU backend on the host), or weakly compressible SPH with
+// explicit, capped viscosity (flow.comp on the GPU: every backend).
 enum class FlowSolver : uint32_t { Explicit, Implicit };
 
 // One emitter: a ring of `particles` slots of its own, reborn oldest first.
@@ -88,7 +89,7 @@ struct Flow {
   float conduction = 0.0f;        // m^2/s: heat diffusivity between neighbours (0: none)
   float soundSpeed = 10.0f;       // m/s: the pressure's wave speed (at most 0.4 radius / h)
   float restitution = 0.0f;       // normal speed a flow particle keeps off the ground, colliders
-  FlowSolver solver = FlowSolver::Explicit;
+  FlowSolver solver = FlowSolver::Implicit;
 };
 
 struct Scene {

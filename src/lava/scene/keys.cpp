@@ -358,7 +358,9 @@ std::vector<KeyDef> flowKeys() {
                [f](Scene& s, size_t i) -> float& { return f(s, i).coolingGround; }),
       floatKey("conduction", "heat diffusivity between neighbours (m^2/s; 0: none)", {0.0, 1e3},
                [f](Scene& s, size_t i) -> float& { return f(s, i).conduction; }),
-      floatKey("sound-speed", "the pressure's wave speed (m/s), at most 0.4 radius / dt",
+      floatKey("sound-speed",
+               "the explicit flow's pressure wave speed (m/s), at most 0.4 radius / dt; the "
+               "implicit flow ignores it",
                {0.0, 1e4, true},
                [f](Scene& s, size_t i) -> float& { return f(s, i).soundSpeed; }),
       floatKey("restitution", "normal speed a flow particle keeps off the ground and colliders",
