@@ -47,12 +47,13 @@ set(filter_Lavapipe25 "RenderTest.*:LookTest.*:GlowCells.*:EmbeddingDraw.*:GpuTe
 # The builtin suite's cases each runs (all where none are named). SwiftShader takes 12 times
 # lavapipe's time over the suite (500 s on a 2-vCPU Xeon): there, "all" stands for the
 # modules it combines (every collider, both forces, bursts and lifetimes, three emitter
-# shapes, velocity Verlet), with the seed scene, the flow, the other integrator, denormals
-# and the host's bookkeeping where it reaches the shader (rings wrapping in a dispatch,
-# serials past 2^32, chunks past a binding: SwiftShader's are the smallest); the point
-# emitter and fractional rates are the same shader code as those (docs/drivers.md).
-string(JOIN "," swiftshader_cases seed-scene all flow integrator-semi-implicit-euler
-            ring-wraps-within-a-dispatch denormals-flushed serial-crosses-2^32 beyond-one-binding)
+# shapes, velocity Verlet), with the seed scene, the flow (whose sparks step by the other
+# integrator, semi-implicit Euler), denormals and the host's bookkeeping where it reaches the
+# shader (rings wrapping in a dispatch, serials past 2^32, chunks past a binding:
+# SwiftShader's are the smallest); the point emitter and fractional rates are the same shader
+# code as those (docs/drivers.md).
+string(JOIN "," swiftshader_cases seed-scene all flow ring-wraps-within-a-dispatch
+            denormals-flushed serial-crosses-2^32 beyond-one-binding)
 set(cases_SwiftShader --cases ${swiftshader_cases})
 # Its render tests: those of clipping, the splat's tiles, the glow and the cached backdrop;
 # the colour ramps' tests are the same fragment arithmetic on every driver (lavapipe 25 runs

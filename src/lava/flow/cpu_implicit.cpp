@@ -504,7 +504,8 @@ std::array<float, N> FlowStepper::rateOf(uint32_t f,
   const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
   for (uint32_t c = 0; c < count_[f]; ++c)
     for (unsigned k = 0; k < N; ++k)
-      rate[k] = rate[k] - tiny(list[c].pressure * dot(of(list[c].e), uf[k] - of((*u[k])[list[c].j])));
+      rate[k] = rate[k] -
+                tiny(list[c].pressure * dot(of(list[c].e), uf[k] - of((*u[k])[list[c].j])));
   for (unsigned k = 0; k < N; ++k) rate[k] = rate[k] + tiny(dot(of(gradWall_[f]), uf[k]));
   return rate;
 }

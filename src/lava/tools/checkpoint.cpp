@@ -459,9 +459,11 @@ Snapshot parseCheckpoint(const std::string& bytes, const std::string& name) {
   checkArrays(r, a);
   Snapshot s;
   s.scene = sceneOf(r, a.sceneText);
-  // A flow without pressures is the explicit flow's: a checkpoint written before `solver`
-  // existed (and defaulted to it) names none. The checksum holds the pressures of one that has.
-  if (s.scene.flow && !a.implicit) s.scene.flow->solver = FlowSolver::Explicit;
+  // A scene that names no solver and a flow without pressures: written before `solver`
+  // existed, when the flow was the explicit one (one naming the implicit flow without its
+  // pressures is refused below, as its state does not fit).
+  if (s.scene.flow && !a.implicit && a.sceneText.find("\nsolver = ") == std::string::npos)
+    s.scene.flow->solver = FlowSolver::Explicit;
   readState(a, name, s.state);
   uint64_t stored = 0;
   std::memcpy(&stored, a.hash.data(), 8);
