@@ -181,7 +181,7 @@ FlowStepper::FlowStepper(const Reference& reference, unsigned threads)
         flowSlots_.push_back(uint32_t(i));
       }
     const size_t flow = flowSlots_.size();
-    pairs_.resize(flow * kNeighbourCap);
+    pairs_.resize(flow * ik_.cap);
     own_.resize(flow);
     pressure_.resize(flow);
     for (std::vector<float>* v : {&lambda_, &rhs_, &lambdaP_, &rhsP_}) v->resize(flow);

@@ -141,6 +141,20 @@ void mirrored(const Wall* near, uint32_t walls, const V& d, float invRadius2, fl
   }
 }
 
+// Twice the neighbours of a particle on the rest lattice of the lightest flow emitter (the
+// closest spacing), within [kLeastNeighbourCap, kMostNeighbourCap]: a list cut short reads a
+// dense bulk as sparse and its pairs one-sided.
+uint32_t neighbourCap(const Scene& scene) {
+  double spacing = std::cbrt(restVolume(scene));
+  for (const Emitter& e : scene.emitters)
+    if (e.flow) spacing = std::min(spacing, std::cbrt(double(e.mass) / scene.flow->density));
+  uint64_t neighbours = 0;
+  forLattice(spacing, scene.flow->radius, [&](int, int, int, double r) {
+    if (r > 0.0) ++neighbours;
+  });
+  return uint32_t(std::clamp<uint64_t>(2 * neighbours, kLeastNeighbourCap, kMostNeighbourCap));
+}
+
 }  // namespace
 
 ImplicitConstants implicitConstants(const Scene& scene) {
@@ -176,6 +190,7 @@ ImplicitConstants implicitConstants(const Scene& scene) {
     k.cfl2[n - 1] = float(std::pow(double(n) * kCourant * s0, 2));
     k.inverse[n - 1] = float(1.0 / double(n));
   }
+  k.cap = neighbourCap(scene);
   return k;
 }
 
@@ -302,7 +317,7 @@ void FlowStepper::walls(float x, float y, float z, const Visit& visit) const {
   }
 }
 
-// Each alive particle's neighbours (at most kNeighbourCap, in the grid's order), its density
+// Each alive particle's neighbours (at most ik_.cap, in the grid's order), its density
 // ratio with the solids' share, its constraint's gradients, the solids' viscous weight, the
 // conduction's stability, and whether it touches crust or a solid.
 void FlowStepper::gatherNeighbours(const State& state, float hs) {
@@ -328,13 +343,13 @@ void FlowStepper::gatherNeighbours(const State& state, float hs) {
       if (t > kPairCut) own = own + (2.0f - 2.0f * friction) * (t * t);
       near[walls++] = {d, n, 2.0f * friction - 1.0f};
     });
-    Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+    Pair* list = pairsOf(f);
     uint32_t count = 0;
     float theta = 0.0f, moving = 0.0f, conductive = 0.0f;
     V grad{0.0f, 0.0f, 0.0f};
     bool touches = false;
     neighbours(state, i, [&](uint32_t j, const V& d, float q, float t) {
-      if (j != i && count == kNeighbourCap) return;
+      if (j != i && count == ik_.cap) return;
       const FlowWeights& w = weights_[emitterOfSlot_[j]];
       V n;
       const float tr = std::max(1.0f - distance(q, d, i, j, n) * k_.invRadius, 0.0f);
@@ -407,7 +422,7 @@ void FlowStepper::viscousSystem(float hs) {
     const V vstar = of(v_[f]);
     float sum = 0.0f;
     V fixed{0.0f, 0.0f, 0.0f}, pull{0.0f, 0.0f, 0.0f};
-    Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+    Pair* list = pairsOf(f);
     for (uint32_t k = 0; k < count_[f]; ++k) {
       const float a = viscousCoefficient(f, list[k].j, hs);
       sum = sum + a * list[k].diagonal;
@@ -451,7 +466,7 @@ void FlowStepper::solveViscosity() {
       const Own& o = own_[f];
       if (!o.liquid) return;
       V pull{0.0f, 0.0f, 0.0f};
-      const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+      const Pair* list = pairsOf(f);
       for (uint32_t c = 0; c < count_[f]; ++c)
         pull = pull + tiny(list[c].weight * of(p_[list[c].j]));
       q_[f] = stored(tiny(o.diag * of(p_[f])) - pull);
@@ -501,7 +516,7 @@ std::array<float, N> FlowStepper::rateOf(uint32_t f,
   V uf[N];
   std::array<float, N> rate{};
   for (unsigned k = 0; k < N; ++k) uf[k] = of((*u[k])[f]);
-  const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+  const Pair* list = pairsOf(f);
   for (uint32_t c = 0; c < count_[f]; ++c)
     for (unsigned k = 0; k < N; ++k)
       rate[k] = rate[k] -
@@ -520,7 +535,7 @@ void FlowStepper::correction(const Multipliers<N>& m, const Lanes<N>& lane) {
     const float mine = pressureOf(f);
     V dv[N];
     for (unsigned k = 0; k < N; ++k) dv[k] = V{0.0f, 0.0f, 0.0f};
-    const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+    const Pair* list = pairsOf(f);
     for (uint32_t c = 0; c < count_[f]; ++c)
       for (unsigned k = 0; k < N; ++k)
         dv[k] = dv[k] + tiny(((*m[k])[f] * list[c].pressure + (*m[k])[list[c].j] * mine) *
@@ -547,7 +562,7 @@ void FlowStepper::smooth(const Lanes<N>& lane) {
       uf[k] = of(u_[lane[k]][f]);
       sum[k] = V{0.0f, 0.0f, 0.0f};
     }
-    const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+    const Pair* list = pairsOf(f);
     for (uint32_t c = 0; c < count_[f]; ++c)
       for (unsigned k = 0; k < N; ++k)
         sum[k] = sum[k] + tiny(list[c].weight * (uf[k] - of(u_[lane[k]][list[c].j])));
@@ -579,13 +594,13 @@ void FlowStepper::multiplyDensity(const Multipliers<N>& x, const Lanes<N>& lane)
 void FlowStepper::smoothingWeights() {
   parallel(flowSlots_.size(), [&](size_t f) {
     float degree = 0.0f;
-    const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+    const Pair* list = pairsOf(f);
     for (uint32_t c = 0; c < count_[f]; ++c)
       if (own_[list[c].j].liquid) degree = degree + list[c].t2;
     own_[f].invDegree = reciprocal(std::max(degree, ik_.restDegree));
   });
   parallel(flowSlots_.size(), [&](size_t f) {
-    Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+    Pair* list = pairsOf(f);
     for (uint32_t c = 0; c < count_[f]; ++c) {
       const Own& j = own_[list[c].j];
       list[c].weight = j.liquid ? list[c].t2 * std::min(own_[f].invDegree, j.invDegree) : 0.0f;
@@ -712,7 +727,7 @@ float FlowStepper::conducted(const State& state, uint32_t f, float conduction) c
   const std::vector<float>& temperature = state.temperature;
   const uint32_t i = at_[f];
   float dT = 0.0f;
-  const Pair* list = &pairs_[size_t(f) * kNeighbourCap];
+  const Pair* list = pairsOf(f);
   for (uint32_t c = 0; c < count_[f]; ++c) {
     const uint32_t j = at_[list[c].j];
     dT = dT + tiny(((weights_[emitterOfSlot_[j]].viscous * conduction) * list[c].t2) *

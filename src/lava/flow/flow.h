@@ -62,7 +62,10 @@ struct FlowWeights {
 constexpr uint32_t kMaxSubsteps = 16;          // a step's most substeps
 constexpr uint32_t kViscousIterations = 64;    // the viscosity's most CG iterations
 constexpr uint32_t kPressureIterations = 64;   // the density constraint's most CG iterations
-constexpr uint32_t kNeighbourCap = 64;         // the most neighbours a particle keeps
+// The most neighbours a particle keeps: twice the rest lattice's of the lightest flow
+// emitter, at least kLeastNeighbourCap and at most kMostNeighbourCap (a radius of 5 spacings).
+constexpr uint32_t kLeastNeighbourCap = 64;
+constexpr uint32_t kMostNeighbourCap = 1024;
 
 // The implicit flow's constants, computed once in double and rounded to float32.
 struct ImplicitConstants {
@@ -77,6 +80,7 @@ struct ImplicitConstants {
   float invStep;               // 1 / the scene's step (1/s)
   float cfl2[kMaxSubsteps];    // (n 0.4 s0)^2 (m^2) for n = 1..: n substeps move at most that
   float inverse[kMaxSubsteps]; // 1/n
+  uint32_t cap;                // the most neighbours a particle keeps (above)
 };
 ImplicitConstants implicitConstants(const Scene& scene);
 std::vector<FlowWeights> flowWeights(const Scene& scene);  // one per emitter
@@ -204,7 +208,9 @@ class FlowStepper {
     // constraint; then the viscosity's, its coupling times j's viscous coefficient (A's entry).
     float weight;
   };
-  std::vector<Pair> pairs_;           // kNeighbourCap per place
+  std::vector<Pair> pairs_;           // ik_.cap per place
+  Pair* pairsOf(size_t f) { return &pairs_[f * ik_.cap]; }
+  const Pair* pairsOf(size_t f) const { return &pairs_[f * ik_.cap]; }
   std::vector<uint32_t> count_;       // per place: its pairs
   std::vector<uint32_t> indexOf_;     // per slot: its place (kNotFlow for others)
   // Per place: what the substep's neighbour pass found, and the solvers' values.
