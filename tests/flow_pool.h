@@ -160,6 +160,33 @@ inline void expectHotterPoolRunsFurther(const MakeSimulation& make, uint32_t n =
   EXPECT_GT(spreadAfter(make, hot, 1000), 1.1 * spreadAfter(make, cool, 1000));
 }
 
+// On a plane tilted 20 degrees, falling towards +x (y = -tan(20 deg) x, above the ground
+// where x < 0), a pool runs downhill once it has collapsed.
+inline void expectPoolRunsDownhill(const MakeSimulation& make) {
+  Scene s = poolScene(500, -1.5f);
+  const float tilt = 20.0f * 3.14159265f / 180.0f;
+  Collider plane;
+  plane.type = ColliderType::Plane;
+  plane.normal = {std::sin(tilt), std::cos(tilt), 0.0f};
+  s.colliders.push_back(plane);
+  s.emitters[0].position.y += 1.5f * std::tan(tilt);
+  const std::unique_ptr<Simulation> sim = make(s);
+  sim->advance(400);  // the collapse
+  const double before = meanX(sim->state());
+  sim->advance(1600);
+  const State after = sim->state();
+  expectSound(after);
+  EXPECT_GT(meanX(after), before + 0.02) << "it runs downhill (+x)";
+}
+
+// A pool of viscosity 0.01 m^2/s spreads further in a second than one of 1.
+inline void expectLessViscousPoolSpreadsFurther(const MakeSimulation& make) {
+  Scene thin = poolScene(500), thick = poolScene(500);
+  thin.flow->viscosity = 0.01f;
+  thick.flow->viscosity = 1.0f;
+  EXPECT_GT(spreadAfter(make, thin, 1000), 1.1 * spreadAfter(make, thick, 1000));
+}
+
 // A pool poured onto a sphere never has a particle inside it, nor below the ground.
 inline void expectNoParticleInsideTheSphere(const MakeSimulation& make, uint32_t n = 500) {
   Scene s = poolScene(n);

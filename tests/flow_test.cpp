@@ -306,29 +306,11 @@ TEST(FlowPhysics, APoolReleasedAtRestSpreadsSettlesAndNeverGainsEnergy) {
 }
 
 TEST(FlowPhysics, OnAPlaneTiltedTwentyDegreesThePoolRunsDownhill) {
-  // The plane falls towards +x: y = -tan(20 deg) x, above the ground where x < 0.
-  Scene s = poolScene(500, -1.5f);
-  const float tilt = 20.0f * 3.14159265f / 180.0f;
-  Collider plane;
-  plane.type = ColliderType::Plane;
-  plane.normal = {std::sin(tilt), std::cos(tilt), 0.0f};
-  s.colliders.push_back(plane);
-  s.emitters[0].position.y += 1.5f * std::tan(tilt);
-  CpuSimulation cpu(s, 1);
-  cpu.advance(400);  // the collapse
-  const double before = meanX(cpu.state());
-  cpu.advance(1600);
-  const State after = cpu.state();
-  expectSound(after);
-  EXPECT_GT(meanX(after), before + 0.02) << "it runs downhill (+x)";
+  test::expectPoolRunsDownhill(cpuReference);
 }
 
 TEST(FlowPhysics, TheLessViscousPoolSpreadsFurther) {
-  Scene thin = poolScene(500), thick = poolScene(500);
-  thin.flow->viscosity = 0.01f;
-  thick.flow->viscosity = 1.0f;
-  EXPECT_GT(test::spreadAfter(cpuReference, thin, 1000),
-            1.1 * test::spreadAfter(cpuReference, thick, 1000));
+  test::expectLessViscousPoolSpreadsFurther(cpuReference);
 }
 
 TEST(FlowPhysics, AHotterPoolRunsFurtherThanACoolerOne) {
@@ -379,6 +361,13 @@ Scene implicitPool(uint32_t n, float x = 0.0f) {
   Scene s = poolScene(n, x);
   s.flow->solver = FlowSolver::Implicit;
   return s;
+}
+
+// The CPU reference on both threads, the scene's flow made implicit.
+std::unique_ptr<Simulation> implicitReference(const Scene& s) {
+  Scene t = s;
+  t.flow->solver = FlowSolver::Implicit;
+  return std::make_unique<CpuSimulation>(t, 2);
 }
 
 }  // namespace
@@ -451,13 +440,16 @@ TEST(FlowImplicit, TheSimdKernelGivesTheReferenceBytes) {
 }
 
 TEST(FlowImplicit, AHotterPoolRunsFurtherAndNothingEndsInsideASolid) {
-  const test::MakeSimulation implicitReference = [](const Scene& s) {
-    Scene t = s;
-    t.flow->solver = FlowSolver::Implicit;
-    return std::make_unique<CpuSimulation>(t, 2);
-  };
   test::expectHotterPoolRunsFurther(implicitReference);
   test::expectNoParticleInsideTheSphere(implicitReference);
+}
+
+TEST(FlowImplicit, OnAPlaneTiltedTwentyDegreesThePoolRunsDownhill) {
+  test::expectPoolRunsDownhill(implicitReference);
+}
+
+TEST(FlowImplicit, TheLessViscousPoolSpreadsFurther) {
+  test::expectLessViscousPoolSpreadsFurther(implicitReference);
 }
 
 // A random burst overlaps its neighbours. Undoing that compression moves the particles apart

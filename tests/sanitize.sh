@@ -36,7 +36,7 @@ novulkan='Random|Physics|Emission|StateIo|Compare|Integrators|Forces|Colliders|D
 # same host code as the shorter flow tests here, at 4 times the time. So are the SIMD
 # kernels' bit-for-bit checks of each module on its own and of random scenes: every module
 # runs through the same kernels in the "all" scene, which runs here (with the flow's).
-physics='^FlowPhysics\.(APool|AHotter|TheLessViscous)|^FlowImplicit\.(ThreadCounts|AHotter|APoolReleased)|^Simd\.RandomScenes'
+physics='^FlowPhysics\.(APool|AHotter|TheLessViscous)|^FlowImplicit\.(ThreadCounts|AHotter|APoolReleased|OnAPlane|TheLessViscous)|^Simd\.RandomScenes'
 modules='[^ ]*/(bursts|collider|emitter|force|integrator)'
 ctest --test-dir build-asan --output-on-failure -j2 -R "^($novulkan)\\." \
       -E "$physics|^Effects/SimdModules\\.$modules"
