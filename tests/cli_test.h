@@ -33,27 +33,32 @@ inline std::string readFile(const std::string& path) {
   return s.str();
 }
 
-// This process's scratch folder, removed when the tests end (a forked child sees the same).
+// This process's scratch folder, removed when the process that made it exits (a forked child
+// sees the same and leaves it). The process exits without gtest's environments too: ctest
+// lists the tests with --gtest_list_tests, after the static scenes are written.
+class ScratchFolder {
+ public:
+  ScratchFolder()
+      : owner_(getpid()), path_(::testing::TempDir() + "lava_cli_" + std::to_string(owner_) + "/") {
+    std::filesystem::create_directories(path_);
+  }
+  ~ScratchFolder() {
+    std::error_code ignored;
+    if (getpid() == owner_) std::filesystem::remove_all(path_, ignored);
+  }
+  const std::string& path() const { return path_; }
+
+ private:
+  pid_t owner_;
+  std::string path_;
+};
+
 inline const std::string& scratchFolder() {
-  static const std::string folder = [] {
-    const std::string path = ::testing::TempDir() + "lava_cli_" + std::to_string(getpid()) + "/";
-    std::filesystem::create_directories(path);
-    return path;
-  }();
-  return folder;
+  static const ScratchFolder folder;
+  return folder.path();
 }
 
 inline std::string scratch(const std::string& name) { return scratchFolder() + name; }
-
-class RemoveScratch : public ::testing::Environment {
- public:
-  void TearDown() override {
-    std::error_code ignored;
-    std::filesystem::remove_all(scratchFolder(), ignored);
-  }
-};
-
-inline const auto* const removeScratch = ::testing::AddGlobalTestEnvironment(new RemoveScratch);
 
 // Runs a shell command line, capturing its exit status and output.
 inline Result run(const std::string& command) {
