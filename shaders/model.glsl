@@ -198,8 +198,11 @@ bool collide(const ColliderParams c, uint type, inout precise vec3 x, inout prec
     // Standing on the ground (its bottom at or below it): the ground closes the bottom
     // face, so the box holds from the ground up and its bottom is no exit.
     const bool standing = c.position.y <= e.y;
-    const bool below = standing ? d.y < e.y : abs(d.y) < e.y;
-    if (!(abs(d.x) < e.x && below && abs(d.z) < e.z)) return false;
+    // Inside: strictly between the faces where a particle is put out (centre -+ size), so
+    // that one put on a face is outside there; |x - centre| < size can round inside.
+    precise vec3 lo = c.position.xyz - e, hi = c.position.xyz + e;
+    const bool below = x.y < hi.y && (standing || x.y > lo.y);
+    if (!(x.x > lo.x && x.x < hi.x && below && x.z > lo.z && x.z < hi.z)) return false;
     precise vec3 gap = e - abs(d);
     if (standing) gap.y = e.y - d.y;
     uint j = 0u;

@@ -90,16 +90,18 @@ inline Scene boxesOnTheGround() {
   return s;
 }
 
-// Whether p lies inside the ground or one of s's boxes, d = x - c in float32 as the model
-// has it: a box standing on the ground (its bottom at or below it) holds from the ground up.
+// Whether p lies inside the ground or one of s's boxes, strictly between its faces c -+ e
+// in float32 as the model has it: a box standing on the ground (its bottom at or below it)
+// holds from the ground up.
 inline bool insideTheGroundOrABox(const Scene& s, const Particle& p) {
   if (p.py < 0.0f) return true;
   for (const Collider& c : s.colliders) {
     if (c.type != ColliderType::Box) continue;
-    const float dx = p.px - c.position.x, dy = p.py - c.position.y, dz = p.pz - c.position.z;
+    const Vec3 lo{c.position.x - c.size.x, c.position.y - c.size.y, c.position.z - c.size.z};
+    const Vec3 hi{c.position.x + c.size.x, c.position.y + c.size.y, c.position.z + c.size.z};
     const bool standing = double(c.position.y) - c.size.y <= 0.0;
-    if (std::fabs(dx) < c.size.x && std::fabs(dz) < c.size.z && dy < c.size.y &&
-        (standing || -dy < c.size.y))
+    if (lo.x < p.px && p.px < hi.x && lo.z < p.pz && p.pz < hi.z && p.py < hi.y &&
+        (standing || lo.y < p.py))
       return true;
   }
   return false;

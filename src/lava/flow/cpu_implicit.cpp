@@ -183,6 +183,7 @@ ImplicitConstants implicitConstants(const Scene& scene) {
   k.tolerance2 = kTolerance * kTolerance;
   k.pressureTolerance2 = kPressureTolerance * kPressureTolerance;
   k.near = float(s0);
+  k.halfSpacing = float(0.5 * s0);
   k.coolAir = f.coolingAir;
   k.coolContact = float(double(f.coolingAir) + f.coolingGround);
   k.invStep = float(1.0 / double(scene.h()));
@@ -716,7 +717,12 @@ void FlowStepper::solveDensity(const State& state, float hs, float invHs) {
   });
   correction<2>({&lambdaP_, &lambda_}, {0, 1});
   parallel(n, [&](size_t f) {
-    pseudo_[f] = own_[f].liquid ? w_[0][f] : V3f{0.0f, 0.0f, 0.0f};
+    // The positions' share moves a particle at most half a spacing in a substep: more is a
+    // particle squeezed into a corner, not an overlap undone.
+    V w = own_[f].liquid ? of(w_[0][f]) : V{0.0f, 0.0f, 0.0f};
+    const float most = ik_.halfSpacing * invHs, q = dot(w, w);
+    if (q > most * most) w = (most * Model::inverseRoot(q)) * w;
+    pseudo_[f] = stored(w);
     if (own_[f].liquid) v_[f] = stored(of(v_[f]) + of(w_[1][f]));
   });
 }

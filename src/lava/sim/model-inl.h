@@ -169,6 +169,41 @@ struct Model {
     return inside;
   }
 
+  // The box (centre c, half-extents size) for the `active` lanes: those inside are put out
+  // on the face of the least gap and respond. Returns the lanes it moved.
+  static LAVA_LANES_INLINE Mask box(const Collider& c, V3& x, V3& v, Mask active) {
+    const V3 center = of(c.position);
+    const Vec3& e = c.size;
+    // A box whose bottom is at or below the ground stands on it: the ground closes its
+    // bottom face, so the box holds from the ground up and its bottom is no exit.
+    const bool standing = c.position.y <= e.y;
+    const V3 d = x - center;
+    const Float ax = abs(d.x), ay = abs(d.y), az = abs(d.z);
+    // Inside: strictly between the faces where a particle is put out (centre -+ size), so
+    // that one put on a face is outside there; |x - centre| < size can round inside.
+    const V3 lo = center - of(e), hi = center + of(e);
+    const Mask under = x.y < hi.y;
+    const Mask below = standing ? under : (under & (lo.y < x.y));
+    const Mask inside =
+        active & (lo.x < x.x) & (x.x < hi.x) & below & (lo.z < x.z) & (x.z < hi.z);
+    if (none(inside)) return inside;
+    const Float gx = e.x - ax, gy = e.y - (standing ? d.y : ay), gz = e.z - az;
+    // Out through the face of the least gap; ties keep the lowest axis.
+    const Mask yBeatsX = gy < gx;
+    const Mask isZ = gz < select(yBeatsX, gy, gx);
+    const Mask isY = !isZ & yBeatsX;
+    const Mask isX = !(isY | isZ);
+    const Float side = select(isZ, d.z, select(isY, standing ? e.y : d.y, d.x));
+    const Float sigma = select(side >= 0.0f, 1.0f, -1.0f);
+    const V3 moved{select(isX, center.x + sigma * e.x, x.x),
+                   select(isY, center.y + sigma * e.y, x.y),
+                   select(isZ, center.z + sigma * e.z, x.z)};
+    const V3 n{select(isX, sigma, 0.0f), select(isY, sigma, 0.0f), select(isZ, sigma, 0.0f)};
+    x = select(inside, moved, x);
+    v = select(inside, flushed(respond(v, n, c.restitution, c.friction)), v);
+    return inside;
+  }
+
   // Collider c for the `active` lanes: those inside are put on its surface and respond.
   // Returns the lanes it moved.
   static LAVA_LANES_INLINE Mask collide(const Collider& c, const Vec3& normal,
@@ -195,33 +230,8 @@ struct Model {
         v = select(inside, flushed(respond(v, n, c.restitution, c.friction)), v);
         return inside;
       }
-      case ColliderType::Box: {
-        const V3 center = of(c.position);
-        const Vec3& e = c.size;
-        // A box whose bottom is at or below the ground stands on it: the ground closes its
-        // bottom face, so the box holds from the ground up and its bottom is no exit.
-        const bool standing = c.position.y <= e.y;
-        const V3 d = x - center;
-        const Float ax = abs(d.x), ay = abs(d.y), az = abs(d.z);
-        const Mask below = standing ? (d.y < e.y) : (ay < e.y);
-        const Mask inside = active & (ax < e.x) & below & (az < e.z);
-        if (none(inside)) return inside;
-        const Float gx = e.x - ax, gy = e.y - (standing ? d.y : ay), gz = e.z - az;
-        // Out through the face of the least gap; ties keep the lowest axis.
-        const Mask yBeatsX = gy < gx;
-        const Mask isZ = gz < select(yBeatsX, gy, gx);
-        const Mask isY = !isZ & yBeatsX;
-        const Mask isX = !(isY | isZ);
-        const Float side = select(isZ, d.z, select(isY, standing ? e.y : d.y, d.x));
-        const Float sigma = select(side >= 0.0f, 1.0f, -1.0f);
-        const V3 moved{select(isX, center.x + sigma * e.x, x.x),
-                       select(isY, center.y + sigma * e.y, x.y),
-                       select(isZ, center.z + sigma * e.z, x.z)};
-        const V3 n{select(isX, sigma, 0.0f), select(isY, sigma, 0.0f), select(isZ, sigma, 0.0f)};
-        x = select(inside, moved, x);
-        v = select(inside, flushed(respond(v, n, c.restitution, c.friction)), v);
-        return inside;
-      }
+      case ColliderType::Box:
+        return box(c, x, v, active);
       case ColliderType::Cone:
         return cone(c, k, x, v, active);
     }
