@@ -63,7 +63,8 @@ constexpr uint32_t kMaxSubsteps = 16;          // a step's most substeps
 constexpr uint32_t kViscousIterations = 64;    // the viscosity's most CG iterations
 constexpr uint32_t kPressureIterations = 64;   // the density constraint's most CG iterations
 // The most neighbours a particle keeps: twice the rest lattice's of the lightest flow
-// emitter, at least kLeastNeighbourCap and at most kMostNeighbourCap (a radius of 5 spacings).
+// emitter, at least kLeastNeighbourCap and at most kMostNeighbourCap (a radius of 5 spacings;
+// from 4, a cell's kFlowBucketCap cuts the lists first: docs/model.md, "Neighbours, bounded").
 constexpr uint32_t kLeastNeighbourCap = 64;
 constexpr uint32_t kMostNeighbourCap = 1024;
 
