@@ -174,6 +174,7 @@ FlowStepper::FlowStepper(const Reference& reference, unsigned threads)
   const size_t n = s.particles();
   if (s.flow->solver == FlowSolver::Implicit) {
     ik_ = implicitConstants(s);
+    bucketCap_ = ik_.bucketCap;
     indexOf_.assign(n, kNotFlow);
     for (size_t i = 0; i < n; ++i)
       if (emitterOfSlot_[i] != kNotFlow) {

@@ -141,18 +141,31 @@ void mirrored(const Wall* near, uint32_t walls, const V& d, float invRadius2, fl
   }
 }
 
+// The rest spacing of the lightest flow emitter (m): the closest.
+double closestSpacing(const Scene& scene) {
+  double spacing = std::cbrt(restVolume(scene));
+  for (const Emitter& e : scene.emitters)
+    if (e.flow) spacing = std::min(spacing, std::cbrt(double(e.mass) / scene.flow->density));
+  return spacing;
+}
+
 // Twice the neighbours of a particle on the rest lattice of the lightest flow emitter (the
 // closest spacing), within [kLeastNeighbourCap, kMostNeighbourCap]: a list cut short reads a
 // dense bulk as sparse and its pairs one-sided.
 uint32_t neighbourCap(const Scene& scene) {
-  double spacing = std::cbrt(restVolume(scene));
-  for (const Emitter& e : scene.emitters)
-    if (e.flow) spacing = std::min(spacing, std::cbrt(double(e.mass) / scene.flow->density));
   uint64_t neighbours = 0;
-  forLattice(spacing, scene.flow->radius, [&](int, int, int, double r) {
+  forLattice(closestSpacing(scene), scene.flow->radius, [&](int, int, int, double r) {
     if (r > 0.0) ++neighbours;
   });
   return uint32_t(std::clamp<uint64_t>(2 * neighbours, kLeastNeighbourCap, kMostNeighbourCap));
+}
+
+// Twice the lattice sites of the lightest flow emitter in a grid cell (a cube a radius wide),
+// at least flow.comp's kFlowBucketCap: at a radius of 4 spacings and more a cell holds 64 at
+// rest, and a bulk read to 64 a bucket reads as sparse.
+uint32_t bucketCap(const Scene& scene) {
+  const double sites = std::pow(double(scene.flow->radius) / closestSpacing(scene), 3.0);
+  return std::max(gpu::kFlowBucketCap, uint32_t(std::ceil(2.0 * sites)));
 }
 
 }  // namespace
@@ -192,6 +205,7 @@ ImplicitConstants implicitConstants(const Scene& scene) {
     k.inverse[n - 1] = float(1.0 / double(n));
   }
   k.cap = neighbourCap(scene);
+  k.bucketCap = bucketCap(scene);
   return k;
 }
 

@@ -63,8 +63,7 @@ constexpr uint32_t kMaxSubsteps = 16;          // a step's most substeps
 constexpr uint32_t kViscousIterations = 64;    // the viscosity's most CG iterations
 constexpr uint32_t kPressureIterations = 64;   // the density constraint's most CG iterations
 // The most neighbours a particle keeps: twice the rest lattice's of the lightest flow
-// emitter, at least kLeastNeighbourCap and at most kMostNeighbourCap (a radius of 5 spacings;
-// from 4, a cell's kFlowBucketCap cuts the lists first: docs/model.md, "Neighbours, bounded").
+// emitter, at least kLeastNeighbourCap and at most kMostNeighbourCap (a radius of 5 spacings).
 constexpr uint32_t kLeastNeighbourCap = 64;
 constexpr uint32_t kMostNeighbourCap = 1024;
 
@@ -83,6 +82,8 @@ struct ImplicitConstants {
   float cfl2[kMaxSubsteps];    // (n 0.4 s0)^2 (m^2) for n = 1..: n substeps move at most that
   float inverse[kMaxSubsteps]; // 1/n
   uint32_t cap;                // the most neighbours a particle keeps (above)
+  uint32_t bucketCap;          // the most entries a neighbour search reads of a bucket: twice
+                               // a cell's sites at rest ((radius/spacing)^3), at least flow.comp's
 };
 ImplicitConstants implicitConstants(const Scene& scene);
 std::vector<FlowWeights> flowWeights(const Scene& scene);  // one per emitter
@@ -177,6 +178,9 @@ class FlowStepper {
   std::vector<FlowWeights> weights_;
   std::vector<uint32_t> emitterOfSlot_;  // kNotFlow for slots of other emitters
   uint32_t buckets_ = 0;
+  // The most entries a neighbour search reads of a bucket: flow.comp's for the explicit flow,
+  // ImplicitConstants::bucketCap for the implicit one.
+  uint32_t bucketCap_ = gpu::kFlowBucketCap;
   // The grid: alive flow slots sorted by (bucket, slot); each bucket's range in `start`, and
   // the sort's next place in each (kept between steps, not reallocated).
   std::vector<uint32_t> start_, sorted_, cursor_;

@@ -118,7 +118,7 @@ namespace lava::detail {
 
 // Calls visit(j, d, q, t) for every flow particle j within the radius of particle i (i
 // itself included): the cells z, then y, then x from -1 to +1, each bucket's first
-// kFlowBucketCap slots in order, and i after them when its own bucket holds it beyond them.
+// bucketCap_ slots in order, and i after them when its own bucket holds it beyond them.
 template <class Visit>
 void FlowStepper::neighbours(const State& state, size_t i, const Visit& visit) const {
   using flowcpu::V;
@@ -130,12 +130,12 @@ void FlowStepper::neighbours(const State& state, size_t i, const Visit& visit) c
         const Cell n{c.x + dx, c.y + dy, c.z + dz};
         const uint32_t b = bucketOf(n, buckets_);
         const uint32_t begin = start_[b], count = start_[b + 1] - begin;
-        uint32_t reads = std::min(count, gpu::kFlowBucketCap);
-        if (count > gpu::kFlowBucketCap && dx == 0 && dy == 0 && dz == 0 &&
-            i > sorted_[begin + gpu::kFlowBucketCap - 1])
+        uint32_t reads = std::min(count, bucketCap_);
+        if (count > bucketCap_ && dx == 0 && dy == 0 && dz == 0 &&
+            i > sorted_[begin + bucketCap_ - 1])
           ++reads;
         for (uint32_t r = 0; r < reads; ++r) {
-          const uint32_t j = r < gpu::kFlowBucketCap ? sorted_[begin + r] : uint32_t(i);
+          const uint32_t j = r < bucketCap_ ? sorted_[begin + r] : uint32_t(i);
           if (!(cells_[j] == n)) continue;
           const Particle& o = state.particles[j];
           const V d{p.px - o.px, p.py - o.py, p.pz - o.pz};
