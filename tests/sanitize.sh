@@ -35,8 +35,9 @@ novulkan='Random|Physics|Emission|StateIo|Compare|Integrators|Forces|Colliders|D
 # The flow's longest physics (a pool's spreading over seconds) are the plain suite's: the
 # same host code as the shorter flow tests here, at 4 times the time. So are the SIMD
 # kernels' bit-for-bit checks of each module on its own and of random scenes: every module
-# runs through the same kernels in the "all" scene, which runs here (with the flow's).
-physics='^FlowPhysics\.(APool|AHotter|TheLessViscous)|^FlowImplicit\.(ThreadCounts|AHotter|APoolReleased|OnAPlane|TheLessViscous)|^Simd\.RandomScenes'
+# runs through the same kernels in the "all" scene, which runs here (with the flow's). The
+# wide-radius block (21 s here) takes the same host code as the pools here, with longer lists.
+physics='^FlowPhysics\.(APool|AHotter|TheLessViscous)|^FlowImplicit\.(ThreadCounts|AHotter|APoolReleased|OnAPlane|TheLessViscous|ABlockWithAWide)|^Simd\.RandomScenes'
 modules='[^ ]*/(bursts|collider|emitter|force|integrator)'
 ctest --test-dir build-asan --output-on-failure -j2 -R "^($novulkan)\\." \
       -E "$physics|^Effects/SimdModules\\.$modules"
