@@ -196,7 +196,6 @@ ImplicitConstants implicitConstants(const Scene& scene) {
   k.tolerance2 = kTolerance * kTolerance;
   k.pressureTolerance2 = kPressureTolerance * kPressureTolerance;
   k.near = float(s0);
-  k.halfSpacing = float(0.5 * s0);
   k.coolAir = f.coolingAir;
   k.coolContact = float(double(f.coolingAir) + f.coolingGround);
   k.invStep = float(1.0 / double(scene.h()));
@@ -734,7 +733,7 @@ void FlowStepper::solveDensity(const State& state, float hs, float invHs) {
     // The positions' share moves a particle at most half a spacing in a substep: more is a
     // particle squeezed into a corner, not an overlap undone.
     V w = own_[f].liquid ? of(w_[0][f]) : V{0.0f, 0.0f, 0.0f};
-    const float most = ik_.halfSpacing * invHs, q = dot(w, w);
+    const float most = (0.5f * ik_.near) * invHs, q = dot(w, w);
     if (q > most * most) w = (most * Model::inverseRoot(q)) * w;
     pseudo_[f] = stored(w);
     if (own_[f].liquid) v_[f] = stored(of(v_[f]) + of(w_[1][f]));

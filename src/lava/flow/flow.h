@@ -76,7 +76,6 @@ struct ImplicitConstants {
   float tolerance2;   // the CG stops where r.z <= tolerance2 b.(b / D), per component
   float pressureTolerance2;  // and the density constraint's where r.z <= this b.(b / D)
   float near;         // a particle this close to a solid (m) touches it: rest spacing
-  float halfSpacing;  // the most a substep's positions' share moves a particle (m)
   float coolAir, coolContact;  // 1/s
   float invStep;               // 1 / the scene's step (1/s)
   float cfl2[kMaxSubsteps];    // (n 0.4 s0)^2 (m^2) for n = 1..: n substeps move at most that
