@@ -182,7 +182,9 @@ FlowStepper::FlowStepper(const Reference& reference, unsigned threads)
         flowSlots_.push_back(uint32_t(i));
       }
     const size_t flow = flowSlots_.size();
-    pairs_.resize(flow * ik_.cap);
+    links_.resize(flow * ik_.cap);
+    slopes_.resize(flow * ik_.cap);
+    kernels_.resize(flow * ik_.cap);
     own_.resize(flow);
     pressure_.resize(flow);
     for (std::vector<float>* v : {&lambda_, &rhs_, &lambdaP_, &rhsP_}) v->resize(flow);
@@ -220,6 +222,11 @@ void FlowStepper::sort(const State& state) {
   for (size_t i = 0; i < state.particles.size(); ++i)
     if (emitterOfSlot_[i] != kNotFlow && !(state.particles[i].age < 0.0f))
       sorted_[cursor_[bucketOf(cells_[i], buckets_)]++] = uint32_t(i);
+  entries_.resize(sorted_.size());
+  for (size_t e = 0; e < sorted_.size(); ++e) {
+    const Particle& p = state.particles[sorted_[e]];
+    entries_[e] = {p.px, p.py, p.pz, cells_[sorted_[e]]};
+  }
 }
 
 void FlowStepper::births(State& state, const std::vector<std::vector<Births>>& schedule,

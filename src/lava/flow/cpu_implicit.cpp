@@ -68,35 +68,6 @@ float halving(float* s) {
   return s[0];
 }
 
-// The sum over flow indices f < n, in their order as the GPU takes it, of term(at[f]), at[f]
-// where f's values are stored: each block of kBlock indices by halving; then invocation t of
-// one workgroup adds the blocks t, t + kBlock, ... in order, and those kBlock sums are halved.
-template <class Term>
-float orderedSum(const std::vector<uint32_t>& at, const Term& term) {
-  const size_t n = at.size(), blocks = (n + kBlock - 1) / kBlock;
-  std::vector<float> partial(blocks);
-  float s[kBlock];
-  for (size_t b = 0; b < blocks; ++b) {
-    for (uint32_t t = 0; t < kBlock; ++t)
-      s[t] = b * kBlock + t < n ? term(at[b * kBlock + t]) : 0.0f;
-    partial[b] = halving(s);
-  }
-  for (uint32_t t = 0; t < kBlock; ++t) {
-    float sum = 0.0f;
-    for (size_t k = t; k < blocks; k += kBlock) sum = sum + partial[k];
-    s[t] = sum;
-  }
-  return halving(s);
-}
-
-// The three components' sums of a vector term.
-template <class Term>
-V orderedSums(const std::vector<uint32_t>& at, const Term& term) {
-  return {orderedSum(at, [&](size_t f) { return term(f).x; }),
-          orderedSum(at, [&](size_t f) { return term(f).y; }),
-          orderedSum(at, [&](size_t f) { return term(f).z; })};
-}
-
 // A cell's place on the Z-order curve (its coordinates' low 10 bits interleaved): cells near
 // each other are mostly near on it.
 uint32_t zOrder(const Cell& c) {
@@ -115,6 +86,30 @@ struct Wall {
   float d;
   V n;
   float friction;
+};
+
+// The solids near a particle: each one (its images for the viscosity), their density share
+// and its gradient. They fill 1 - prod (1 - phi_b) of the missing density: each solid's
+// half-space, their overlaps (edges, corners) once; open = prod (1 - phi_b), slope its
+// gradient; own, the particle's own images' t^2, each times 2 - 2 friction.
+struct Solids {
+  Wall near[kMaxColliders + 1];
+  uint32_t count = 0;
+  float open = 1.0f, own = 0.0f;
+  V slope{0.0f, 0.0f, 0.0f};
+
+  // A solid at distance d, u = 1 - d/radius, outward normal n.
+  void add(const ImplicitConstants& ik, float invRadius2, float d, float u, const V& n,
+           float friction) {
+    const float u4 = (u * u) * (u * u);
+    const float phi = ik.phi * ((u4 * u) * (3.0f - 2.0f * u));
+    const float dphi = ik.slope * (u4 * (5.0f - 4.0f * u));
+    slope = (1.0f - phi) * slope - (open * dphi) * n;
+    open = open * (1.0f - phi);
+    const float t = 1.0f - ((4.0f * d) * d) * invRadius2;
+    if (t > kPairCut) own = own + (2.0f - 2.0f * friction) * (t * t);
+    near[count++] = {d, n, 2.0f * friction - 1.0f};
+  }
 };
 
 // Whether any of the first `count` solids lies closer than `within`.
@@ -206,6 +201,38 @@ ImplicitConstants implicitConstants(const Scene& scene) {
   k.cap = neighbourCap(scene);
   k.bucketCap = bucketCap(scene);
   return k;
+}
+
+// The sums over flow indices f of each of term(place_[f])'s K values (term takes a place),
+// in their order as the GPU takes it: each block of kBlock indices by halving (the blocks
+// side by side over the threads); then invocation t of one workgroup adds the blocks t,
+// t + kBlock, ... in order, and those kBlock sums are halved. Each value's sum has the bits
+// of its sum alone.
+template <unsigned K, class Term>
+std::array<float, K> FlowStepper::orderedSums(const Term& term) const {
+  using Values = std::array<float, K>;
+  const size_t n = place_.size(), blocks = (n + kBlock - 1) / kBlock;
+  std::vector<Values> partial(blocks);
+  parallel(blocks, [&](size_t b) {
+    float s[K][kBlock];
+    for (uint32_t t = 0; t < kBlock; ++t) {
+      const size_t f = b * kBlock + t;
+      const Values v = f < n ? term(place_[f]) : Values{};
+      for (unsigned k = 0; k < K; ++k) s[k][t] = v[k];
+    }
+    for (unsigned k = 0; k < K; ++k) partial[b][k] = halving(s[k]);
+  }, n);
+  Values sums;
+  for (unsigned k = 0; k < K; ++k) {
+    float s[kBlock];
+    for (uint32_t t = 0; t < kBlock; ++t) {
+      float sum = 0.0f;
+      for (size_t c = t; c < blocks; c += kBlock) sum = sum + partial[c][k];
+      s[t] = sum;
+    }
+    sums[k] = halving(s);
+  }
+  return sums;
 }
 
 void FlowStepper::implicitStep(State& state) {
@@ -340,24 +367,13 @@ void FlowStepper::gatherNeighbours(const State& state, float hs) {
     const uint32_t f = uint32_t(e), i = at_[f];  // the alive particles come first
     const Particle& p = state.particles[i];
     Own& o = own_[f];
-    // The solids near i: their density share, and its own images for the viscosity.
-    Wall near[kMaxColliders + 1];
-    uint32_t walls = 0;
-    // The solids fill 1 - prod (1 - phi_b) of the missing density: each solid's half-space,
-    // their overlaps (edges, corners) once. open = prod (1 - phi_b), slope its gradient.
-    float open = 1.0f, own = 0.0f;
-    V slope{0.0f, 0.0f, 0.0f};
+    Solids solids;
     this->walls(p.px, p.py, p.pz, [&](float d, float u, const V& n, float friction) {
-      const float u4 = (u * u) * (u * u);
-      const float phi = ik_.phi * ((u4 * u) * (3.0f - 2.0f * u));
-      const float dphi = ik_.slope * (u4 * (5.0f - 4.0f * u));
-      slope = (1.0f - phi) * slope - (open * dphi) * n;
-      open = open * (1.0f - phi);
-      const float t = 1.0f - ((4.0f * d) * d) * k_.invRadius2;
-      if (t > kPairCut) own = own + (2.0f - 2.0f * friction) * (t * t);
-      near[walls++] = {d, n, 2.0f * friction - 1.0f};
+      solids.add(ik_, k_.invRadius2, d, u, n, friction);
     });
-    Pair* list = pairsOf(f);
+    Link* links = linksOf(f);
+    Slope* slopes = &slopes_[f * ik_.cap];
+    Kernel* kernels = &kernels_[f * ik_.cap];
     uint32_t count = 0;
     float theta = 0.0f, moving = 0.0f, conductive = 0.0f;
     V grad{0.0f, 0.0f, 0.0f};
@@ -376,22 +392,24 @@ void FlowStepper::gatherNeighbours(const State& state, float hs) {
       if (own_[g].liquid) moving = moving + dot(push, push);
       const float t2 = t * t;
       float diagonal, coupling;
-      mirrored(near, walls, d, k_.invRadius2, t2, diagonal, coupling);
+      mirrored(solids.near, solids.count, d, k_.invRadius2, t2, diagonal, coupling);
       conductive = conductive + tiny(w.viscous * t2);
       touches = touches || (state.crust[j] != 0 && q < k_.touch2);
-      list[count++] = {g, t2, diagonal, coupling, stored(unit), w.pressure, 0.0f};
+      links[count] = {g, 0.0f};
+      slopes[count] = {stored(unit), w.pressure};
+      kernels[count++] = {t2, diagonal, coupling};
     });
-    theta = theta + (1.0f - open);
-    grad = grad - slope;  // the solids' share of the gradient is -slope
-    const bool close = anyCloser(near, walls, ik_.near);
+    theta = theta + (1.0f - solids.open);
+    grad = grad - solids.slope;  // the solids' share of the gradient is -slope
+    const bool close = anyCloser(solids.near, solids.count, ik_.near);
     count_[f] = count;
     o.theta = theta;
     o.invG = reciprocal(hs * ((dot(grad, grad) + moving) + ik_.epsilon));
-    o.wallViscous = own;
+    o.wallViscous = solids.own;
     o.conductive = stable(conduction * conductive);
     o.touches = touches || close;
     o.near = close;
-    gradWall_[f] = stored(V{-slope.x, -slope.y, -slope.z});
+    gradWall_[f] = stored(V{-solids.slope.x, -solids.slope.y, -solids.slope.z});
   });
 }
 
@@ -436,15 +454,16 @@ void FlowStepper::viscousSystem(float hs) {
     const V vstar = of(v_[f]);
     float sum = 0.0f;
     V fixed{0.0f, 0.0f, 0.0f}, pull{0.0f, 0.0f, 0.0f};
-    Pair* list = pairsOf(f);
+    Link* links = linksOf(f);
+    const Kernel* kernels = kernelsOf(f);
     for (uint32_t k = 0; k < count_[f]; ++k) {
-      const float a = viscousCoefficient(f, list[k].j, hs);
-      sum = sum + a * list[k].diagonal;
-      const float coupling = a * list[k].coupling;
-      const V term = tiny(coupling * of(v_[list[k].j]));
+      const float a = viscousCoefficient(f, links[k].j, hs);
+      sum = sum + a * kernels[k].diagonal;
+      const float coupling = a * kernels[k].coupling;
+      const V term = tiny(coupling * of(v_[links[k].j]));
       // A solid neighbour's share is on the right side: 0 in the product (pull never -0).
-      const bool liquid = own_[list[k].j].liquid;
-      list[k].weight = liquid ? coupling : 0.0f;
+      const bool liquid = own_[links[k].j].liquid;
+      links[k].weight = liquid ? coupling : 0.0f;
       if (liquid)
         pull = pull + term;
       else
@@ -465,13 +484,16 @@ void FlowStepper::viscousSystem(float hs) {
 // tolerance2 b.(b / D) or kViscousIterations.
 void FlowStepper::solveViscosity() {
   const size_t n = flowSlots_.size();
-  const auto liquidTerm = [&](auto term) {
-    return [this, term](size_t f) { return own_[f].liquid ? tiny(term(f)) : V{0, 0, 0}; };
+  // The three components' sums of a liquid particle's term, in one pass.
+  const auto sums = [&](auto term) {
+    const std::array<float, 3> s = orderedSums<3>([&](size_t f) {
+      const V v = own_[f].liquid ? tiny(term(f)) : V{0, 0, 0};
+      return std::array<float, 3>{v.x, v.y, v.z};
+    });
+    return V{s[0], s[1], s[2]};
   };
-  V rz = orderedSums(place_, liquidTerm([&](size_t f) { return times(of(r_[f]), of(z_[f])); }));
-  const V bb = orderedSums(place_, liquidTerm([&](size_t f) {
-    return times(of(b_[f]), own_[f].invDiag * of(b_[f]));
-  }));
+  V rz = sums([&](size_t f) { return times(of(r_[f]), of(z_[f])); });
+  const V bb = sums([&](size_t f) { return times(of(b_[f]), own_[f].invDiag * of(b_[f])); });
   const V limit = ik_.tolerance2 * bb;
   bool active[3] = {rz.x > limit.x, rz.y > limit.y, rz.z > limit.z};
   for (uint32_t k = 0; k < kViscousIterations && (active[0] || active[1] || active[2]); ++k) {
@@ -480,12 +502,12 @@ void FlowStepper::solveViscosity() {
       const Own& o = own_[f];
       if (!o.liquid) return;
       V pull{0.0f, 0.0f, 0.0f};
-      const Pair* list = pairsOf(f);
+      const Link* links = linksOf(f);
       for (uint32_t c = 0; c < count_[f]; ++c)
-        pull = pull + tiny(list[c].weight * of(p_[list[c].j]));
+        pull = pull + tiny(links[c].weight * of(p_[links[c].j]));
       q_[f] = stored(tiny(o.diag * of(p_[f])) - pull);
     });
-    const V pq = orderedSums(place_, liquidTerm([&](size_t f) { return times(of(p_[f]), of(q_[f])); }));
+    const V pq = sums([&](size_t f) { return times(of(p_[f]), of(q_[f])); });
     float alpha[3], beta[3];
     const float rzs[3] = {rz.x, rz.y, rz.z}, pqs[3] = {pq.x, pq.y, pq.z};
     for (int c = 0; c < 3; ++c) {
@@ -501,7 +523,7 @@ void FlowStepper::solveViscosity() {
       r_[f] = stored(r);
       z_[f] = stored(tiny(own_[f].invDiag * r));
     });
-    const V next = orderedSums(place_, liquidTerm([&](size_t f) { return times(of(r_[f]), of(z_[f])); }));
+    const V next = sums([&](size_t f) { return times(of(r_[f]), of(z_[f])); });
     const float nexts[3] = {next.x, next.y, next.z}, limits[3] = {limit.x, limit.y, limit.z};
     float kept[3];
     for (int c = 0; c < 3; ++c) {
@@ -530,11 +552,12 @@ std::array<float, N> FlowStepper::rateOf(uint32_t f,
   V uf[N];
   std::array<float, N> rate{};
   for (unsigned k = 0; k < N; ++k) uf[k] = of((*u[k])[f]);
-  const Pair* list = pairsOf(f);
+  const Link* links = linksOf(f);
+  const Slope* slopes = slopesOf(f);
   for (uint32_t c = 0; c < count_[f]; ++c)
     for (unsigned k = 0; k < N; ++k)
       rate[k] = rate[k] -
-                tiny(list[c].pressure * dot(of(list[c].e), uf[k] - of((*u[k])[list[c].j])));
+                tiny(slopes[c].pressure * dot(of(slopes[c].e), uf[k] - of((*u[k])[links[c].j])));
   for (unsigned k = 0; k < N; ++k) rate[k] = rate[k] + tiny(dot(of(gradWall_[f]), uf[k]));
   return rate;
 }
@@ -549,11 +572,12 @@ void FlowStepper::correction(const Multipliers<N>& m, const Lanes<N>& lane) {
     const float mine = pressureOf(f);
     V dv[N];
     for (unsigned k = 0; k < N; ++k) dv[k] = V{0.0f, 0.0f, 0.0f};
-    const Pair* list = pairsOf(f);
+    const Link* links = linksOf(f);
+    const Slope* slopes = slopesOf(f);
     for (uint32_t c = 0; c < count_[f]; ++c)
       for (unsigned k = 0; k < N; ++k)
-        dv[k] = dv[k] + tiny(((*m[k])[f] * list[c].pressure + (*m[k])[list[c].j] * mine) *
-                             of(list[c].e));
+        dv[k] = dv[k] + tiny(((*m[k])[f] * slopes[c].pressure + (*m[k])[links[c].j] * mine) *
+                             of(slopes[c].e));
     for (unsigned k = 0; k < N; ++k)
       u_[lane[k]][f] = stored(dv[k] - tiny((*m[k])[f] * of(gradWall_[f])));
   });
@@ -576,10 +600,10 @@ void FlowStepper::smooth(const Lanes<N>& lane) {
       uf[k] = of(u_[lane[k]][f]);
       sum[k] = V{0.0f, 0.0f, 0.0f};
     }
-    const Pair* list = pairsOf(f);
+    const Link* links = linksOf(f);
     for (uint32_t c = 0; c < count_[f]; ++c)
       for (unsigned k = 0; k < N; ++k)
-        sum[k] = sum[k] + tiny(list[c].weight * (uf[k] - of(u_[lane[k]][list[c].j])));
+        sum[k] = sum[k] + tiny(links[c].weight * (uf[k] - of(u_[lane[k]][links[c].j])));
     for (unsigned k = 0; k < N; ++k) w_[lane[k]][f] = stored(uf[k] - tiny(kSmoothing * sum[k]));
   });
 }
@@ -608,16 +632,18 @@ void FlowStepper::multiplyDensity(const Multipliers<N>& x, const Lanes<N>& lane)
 void FlowStepper::smoothingWeights() {
   parallel(flowSlots_.size(), [&](size_t f) {
     float degree = 0.0f;
-    const Pair* list = pairsOf(f);
+    const Link* links = linksOf(f);
+    const Kernel* kernels = kernelsOf(f);
     for (uint32_t c = 0; c < count_[f]; ++c)
-      if (own_[list[c].j].liquid) degree = degree + list[c].t2;
+      if (own_[links[c].j].liquid) degree = degree + kernels[c].t2;
     own_[f].invDegree = reciprocal(std::max(degree, ik_.restDegree));
   });
   parallel(flowSlots_.size(), [&](size_t f) {
-    Pair* list = pairsOf(f);
+    Link* links = linksOf(f);
+    const Kernel* kernels = kernelsOf(f);
     for (uint32_t c = 0; c < count_[f]; ++c) {
-      const Own& j = own_[list[c].j];
-      list[c].weight = j.liquid ? list[c].t2 * std::min(own_[f].invDegree, j.invDegree) : 0.0f;
+      const Own& j = own_[links[c].j];
+      links[c].weight = j.liquid ? kernels[c].t2 * std::min(own_[f].invDegree, j.invDegree) : 0.0f;
     }
   });
 }
@@ -666,7 +692,7 @@ void FlowStepper::solveConstraints(float hs, float limit) {
     }
   });
   const auto rzOf = [&](unsigned k) {
-    return orderedSum(place_, [&](size_t f) { return tiny(ar_[k][f] * az_[k][f]); });
+    return orderedSums<1>([&](size_t f) { return std::array<float, 1>{tiny(ar_[k][f] * az_[k][f])}; })[0];
   };
   float rz[2] = {rzOf(0), rzOf(1)};
   bool active[2] = {rz[0] > limit, rz[1] > limit};
@@ -680,7 +706,9 @@ void FlowStepper::solveConstraints(float hs, float limit) {
     float alpha[2] = {0.0f, 0.0f};
     for (unsigned k = 0; k < 2; ++k) {
       if (!active[k]) continue;
-      const float pq = orderedSum(place_, [&](size_t f) { return tiny(ap_[k][f] * aq_[k][f]); });
+      const float pq = orderedSums<1>([&](size_t f) {
+        return std::array<float, 1>{tiny(ap_[k][f] * aq_[k][f])};
+      })[0];
       active[k] = pq > 0.0f;
       if (active[k]) alpha[k] = rz[k] * reciprocal(pq);
     }
@@ -718,9 +746,10 @@ void FlowStepper::solveDensity(const State& state, float hs, float invHs) {
   densitySystem(state, hs, invHs);
   // Both CGs stop at pressureTolerance2 b.(b / D) of the whole right side: the positions'
   // share is as accurate as the whole, however small it is.
-  const float bb = orderedSum(place_, [&](size_t f) {
-    return own_[f].active ? tiny(rhs_[f] * ((own_[f].invG * hs) * rhs_[f])) : 0.0f;
-  });
+  const float bb = orderedSums<1>([&](size_t f) {
+    return std::array<float, 1>{own_[f].active ? tiny(rhs_[f] * ((own_[f].invG * hs) * rhs_[f]))
+                                               : 0.0f};
+  })[0];
   solveConstraints(hs, ik_.pressureTolerance2 * bb);
   parallel(n, [&](size_t f) {
     lambda_[f] = std::max(lambda_[f], 0.0f);
@@ -746,11 +775,12 @@ float FlowStepper::conducted(const State& state, uint32_t f, float conduction) c
   const std::vector<float>& temperature = state.temperature;
   const uint32_t i = at_[f];
   float dT = 0.0f;
-  const Pair* list = pairsOf(f);
+  const Link* links = linksOf(f);
+  const Kernel* kernels = kernelsOf(f);
   for (uint32_t c = 0; c < count_[f]; ++c) {
-    const uint32_t j = at_[list[c].j];
-    dT = dT + tiny(((weights_[emitterOfSlot_[j]].viscous * conduction) * list[c].t2) *
-                   std::min(own_[f].conductive, own_[list[c].j].conductive) *
+    const uint32_t j = at_[links[c].j];
+    dT = dT + tiny(((weights_[emitterOfSlot_[j]].viscous * conduction) * kernels[c].t2) *
+                   std::min(own_[f].conductive, own_[links[c].j].conductive) *
                    (temperature[j] - temperature[i]));
   }
   return dT;

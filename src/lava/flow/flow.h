@@ -168,7 +168,13 @@ class FlowStepper {
   template <class Visit>
   void neighbours(const State& state, size_t i, const Visit& visit) const;
   template <class Body>
-  void parallel(size_t n, const Body& body) const;
+  void parallel(size_t n, const Body& body) const {
+    parallel(n, body, n);
+  }
+  template <class Body>
+  void parallel(size_t n, const Body& body, size_t work) const;
+  template <unsigned K, class Term>
+  std::array<float, K> orderedSums(const Term& term) const;
 
   const Reference& reference_;
   Scene contact_;  // the scene with the flow's restitution on the ground and every collider
@@ -184,6 +190,13 @@ class FlowStepper {
   // the sort's next place in each (kept between steps, not reallocated).
   std::vector<uint32_t> start_, sorted_, cursor_;
   std::vector<Cell> cells_;  // per slot: its cell this step
+  // Per entry of sorted_: its slot's position and cell, so that a neighbour search reads a
+  // bucket's candidates from consecutive memory rather than each from its slot.
+  struct Entry {
+    float x, y, z;
+    Cell cell;
+  };
+  std::vector<Entry> entries_;
   // Per slot, from the first pass.
   std::vector<float> theta_, pi_, viscosity_, viscous_, conductive_;
   std::vector<uint8_t> touches_;
@@ -201,21 +214,32 @@ class FlowStepper {
   // place in place_; keys_ the Z-order sort's.
   std::vector<uint32_t> at_, place_;
   std::vector<uint64_t> keys_;
-  struct Pair {
+  // Each place's pairs (ik_.cap each) in three arrays, by the passes that read them: the
+  // solvers' products read only links, the constraint's also slopes, so that a CG iteration
+  // streams 8 or 24 bytes a pair rather than all 36.
+  struct Link {
     uint32_t j;  // the neighbour's place
-    float t2;    // (1 - r^2/radius^2)^2
-    // The viscosity's weights: t^2 plus its images' t^2 across the solids near i (each image
-    // moving at 2 friction - 1 times v_j): on i's diagonal, and on its coupling to j.
-    float diagonal, coupling;
-    V3f e;       // (1 - r/radius)^2 times the unit direction from j to i
-    float pressure;  // j's pressure weight
     // The pass's weight (0 for a solid j): S's, t^2 min(1/d_i, 1/d_j), in the density
     // constraint; then the viscosity's, its coupling times j's viscous coefficient (A's entry).
     float weight;
   };
-  std::vector<Pair> pairs_;           // ik_.cap per place
-  Pair* pairsOf(size_t f) { return &pairs_[f * ik_.cap]; }
-  const Pair* pairsOf(size_t f) const { return &pairs_[f * ik_.cap]; }
+  struct Slope {
+    V3f e;           // (1 - r/radius)^2 times the unit direction from j to i
+    float pressure;  // j's pressure weight
+  };
+  struct Kernel {
+    float t2;  // (1 - r^2/radius^2)^2
+    // The viscosity's weights: t^2 plus its images' t^2 across the solids near i (each image
+    // moving at 2 friction - 1 times v_j): on i's diagonal, and on its coupling to j.
+    float diagonal, coupling;
+  };
+  std::vector<Link> links_;
+  std::vector<Slope> slopes_;
+  std::vector<Kernel> kernels_;
+  Link* linksOf(size_t f) { return &links_[f * ik_.cap]; }
+  const Link* linksOf(size_t f) const { return &links_[f * ik_.cap]; }
+  const Slope* slopesOf(size_t f) const { return &slopes_[f * ik_.cap]; }
+  const Kernel* kernelsOf(size_t f) const { return &kernels_[f * ik_.cap]; }
   std::vector<uint32_t> count_;       // per place: its pairs
   std::vector<uint32_t> indexOf_;     // per slot: its place (kNotFlow for others)
   // Per place: what the substep's neighbour pass found, and the solvers' values.

@@ -135,10 +135,11 @@ void FlowStepper::neighbours(const State& state, size_t i, const Visit& visit) c
             i > sorted_[begin + bucketCap_ - 1])
           ++reads;
         for (uint32_t r = 0; r < reads; ++r) {
-          const uint32_t j = r < bucketCap_ ? sorted_[begin + r] : uint32_t(i);
-          if (!(cells_[j] == n)) continue;
-          const Particle& o = state.particles[j];
-          const V d{p.px - o.px, p.py - o.py, p.pz - o.pz};
+          const bool own = r == bucketCap_;  // i itself, beyond the bucket's first bucketCap_
+          const Entry o = own ? Entry{p.px, p.py, p.pz, c} : entries_[begin + r];
+          if (!(o.cell == n)) continue;
+          const uint32_t j = own ? uint32_t(i) : sorted_[begin + r];
+          const V d{p.px - o.x, p.py - o.y, p.pz - o.z};
           const float q = dot(d, d);
           const float t = 1.0f - q * k_.invRadius2;
           if (t > kPairCut) visit(j, d, q, t);
@@ -146,11 +147,11 @@ void FlowStepper::neighbours(const State& state, size_t i, const Visit& visit) c
       }
 }
 
-// body(e) for e in [0, n), over the stepper's threads: each e writes only its own results,
-// so the threads change no bit.
+// body(e) for e in [0, n), over the stepper's threads (one where the work, n by default, is
+// under 2048 elements): each e writes only its own results, so the threads change no bit.
 template <class Body>
-void FlowStepper::parallel(size_t n, const Body& body) const {
-  const size_t threads = n < 2048 ? 1 : workers_.size();
+void FlowStepper::parallel(size_t n, const Body& body, size_t work) const {
+  const size_t threads = work < 2048 ? 1 : workers_.size();
   if (threads == 1) {
     for (size_t e = 0; e < n; ++e) body(e);
     return;
