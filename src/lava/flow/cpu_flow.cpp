@@ -190,14 +190,15 @@ FlowStepper::FlowStepper(const Reference& reference, unsigned threads)
     for (std::vector<float>* v : {&lambda_, &rhs_, &lambdaP_, &rhsP_}) v->resize(flow);
     for (unsigned k = 0; k < 2; ++k) {
       for (std::vector<float>* v : {&ar_[k], &az_[k], &ap_[k], &aq_[k]}) v->resize(flow);
-      u_[k].resize(flow);
+      u_[k].resize(flow + 1);  // a spare: the products' 16-byte loads (cpu_implicit.cpp, X3)
       w_[k].resize(flow);
     }
     pseudo_.resize(flow);
     count_.resize(flow);
     at_.resize(flow);
     place_.resize(flow);
-    for (std::vector<V3f>* v : {&gradWall_, &v_, &r_, &z_, &p_, &q_, &b_}) v->resize(flow);
+    for (std::vector<V3f>* v : {&v_, &r_, &z_, &q_, &b_}) v->resize(flow);
+    for (std::vector<V3f>* v : {&gradWall_, &p_}) v->resize(flow + 1);  // as u_'s spare
   }
   cells_.resize(n);
   if (!flowSlots_.empty()) return;  // the explicit flow's own per-slot results
