@@ -197,6 +197,8 @@ FlowStepper::FlowStepper(const Reference& reference, unsigned threads)
     count_.resize(flow);
     at_.resize(flow);
     place_.resize(flow);
+    indexAt_.resize(flow);
+    terms_.resize(flow);
     for (std::vector<V3f>* v : {&v_, &r_, &z_, &q_, &b_}) v->resize(flow);
     for (std::vector<V3f>* v : {&gradWall_, &p_}) v->resize(flow + 1);  // as u_'s spare
   }

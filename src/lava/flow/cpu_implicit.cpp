@@ -249,25 +249,27 @@ ImplicitConstants implicitConstants(const Scene& scene) {
   return k;
 }
 
-// The sums over flow indices f of each of term(place_[f])'s K values (term takes a place),
-// in their order as the GPU takes it: each block of kBlock indices by halving (the blocks
-// side by side over the threads); then invocation t of one workgroup adds the blocks t,
-// t + kBlock, ... in order, and those kBlock sums are halved. Each value's sum has the bits
-// of its sum alone.
+namespace {
+
+// The sums over flow indices f < n of each of term(f)'s K values, in their order as the GPU
+// takes it: each block of kBlock indices by halving; then invocation t of one workgroup adds
+// the blocks t, t + kBlock, ... in order, and those kBlock sums are halved. Each value's sum
+// has the bits of its sum alone. On the calling thread: a barrier costs more than the sum,
+// and far more where the threads share their cores with other work.
 template <unsigned K, class Term>
-std::array<float, K> FlowStepper::orderedSums(const Term& term) const {
+std::array<float, K> inOrder(size_t n, const Term& term) {
   using Values = std::array<float, K>;
-  const size_t n = place_.size(), blocks = (n + kBlock - 1) / kBlock;
+  const size_t blocks = (n + kBlock - 1) / kBlock;
   std::vector<Values> partial(blocks);
-  parallel(blocks, [&](size_t b) {
+  for (size_t b = 0; b < blocks; ++b) {
     float s[K][kBlock];
     for (uint32_t t = 0; t < kBlock; ++t) {
       const size_t f = b * kBlock + t;
-      const Values v = f < n ? term(place_[f]) : Values{};
+      const Values v = f < n ? term(f) : Values{};
       for (unsigned k = 0; k < K; ++k) s[k][t] = v[k];
     }
     for (unsigned k = 0; k < K; ++k) partial[b][k] = halving(s[k]);
-  }, n);
+  }
   Values sums;
   for (unsigned k = 0; k < K; ++k) {
     float s[kBlock];
@@ -279,6 +281,26 @@ std::array<float, K> FlowStepper::orderedSums(const Term& term) const {
     sums[k] = halving(s);
   }
   return sums;
+}
+
+}  // namespace
+
+// The sums of each of term(place)'s K values over the flow indices, in order (inOrder).
+template <unsigned K, class Term>
+std::array<float, K> FlowStepper::orderedSums(const Term& term) const {
+  return inOrder<K>(place_.size(), [&](size_t f) { return term(place_[f]); });
+}
+
+// The sums of the first K values of the terms a pass left per flow index (terms_).
+template <unsigned K>
+std::array<float, K> FlowStepper::termSums() const {
+  return inOrder<K>(place_.size(), [&](size_t f) {
+    const V3f& t = terms_[f];
+    const float all[3] = {t.x, t.y, t.z};
+    std::array<float, K> v;
+    for (unsigned k = 0; k < K; ++k) v[k] = all[k];
+    return v;
+  });
 }
 
 void FlowStepper::implicitStep(State& state) {
@@ -337,7 +359,10 @@ void FlowStepper::arrange() {
       at_[place] = i;
       indexOf_[i] = place++;
     }
-  for (size_t f = 0; f < flowSlots_.size(); ++f) place_[f] = indexOf_[flowSlots_[f]];
+  for (size_t f = 0; f < flowSlots_.size(); ++f) {
+    place_[f] = indexOf_[flowSlots_[f]];
+    indexAt_[place_[f]] = uint32_t(f);
+  }
 }
 
 // Calls visit(d, u, n, friction) for the ground and each collider within the radius of x: d
@@ -526,6 +551,25 @@ void FlowStepper::viscousSystem(float hs) {
   });
 }
 
+// The viscosity's product q = A p on the liquid particles, and p.q's terms (terms_).
+void FlowStepper::multiplyViscous() {
+  parallel(flowSlots_.size(), [&](size_t e) {
+    const uint32_t f = uint32_t(e);
+    const Own& o = own_[f];
+    if (!o.liquid) {
+      terms_[indexAt_[f]] = V3f{0.0f, 0.0f, 0.0f};
+      return;
+    }
+    X3 pull = splat(0.0f);
+    const Link* links = linksOf(f);
+    for (uint32_t c = 0; c < count_[f]; ++c)
+      pull = pull + tiny(splat(links[c].weight) * load(p_[links[c].j]));
+    const X3 p = load(p_[f]), q = tiny(splat(o.diag) * p) - pull;
+    q_[f] = stored(q);
+    terms_[indexAt_[f]] = stored(tiny(p * q));
+  });
+}
+
 // The viscosity's CG, each component with its own alpha and beta, until its r.z is below
 // tolerance2 b.(b / D) or kViscousIterations.
 void FlowStepper::solveViscosity() {
@@ -538,22 +582,17 @@ void FlowStepper::solveViscosity() {
     });
     return V{s[0], s[1], s[2]};
   };
+  const auto left = [&] {  // the same sums of the terms the pass before left
+    const std::array<float, 3> s = termSums<3>();
+    return V{s[0], s[1], s[2]};
+  };
   V rz = sums([&](size_t f) { return times(of(r_[f]), of(z_[f])); });
   const V bb = sums([&](size_t f) { return times(of(b_[f]), own_[f].invDiag * of(b_[f])); });
   const V limit = ik_.tolerance2 * bb;
   bool active[3] = {rz.x > limit.x, rz.y > limit.y, rz.z > limit.z};
   for (uint32_t k = 0; k < kViscousIterations && (active[0] || active[1] || active[2]); ++k) {
-    parallel(n, [&](size_t e) {  // q = A p
-      const uint32_t f = uint32_t(e);
-      const Own& o = own_[f];
-      if (!o.liquid) return;
-      X3 pull = splat(0.0f);
-      const Link* links = linksOf(f);
-      for (uint32_t c = 0; c < count_[f]; ++c)
-        pull = pull + tiny(splat(links[c].weight) * load(p_[links[c].j]));
-      q_[f] = stored(tiny(splat(o.diag) * load(p_[f])) - pull);
-    });
-    const V pq = sums([&](size_t f) { return times(of(p_[f]), of(q_[f])); });
+    multiplyViscous();
+    const V pq = left();
     float alpha[3], beta[3];
     const float rzs[3] = {rz.x, rz.y, rz.z}, pqs[3] = {pq.x, pq.y, pq.z};
     for (int c = 0; c < 3; ++c) {
@@ -561,15 +600,19 @@ void FlowStepper::solveViscosity() {
       alpha[c] = active[c] ? rzs[c] * reciprocal(pqs[c]) : 0.0f;
     }
     const V a{alpha[0], alpha[1], alpha[2]};
-    parallel(n, [&](size_t e) {
+    parallel(n, [&](size_t e) {  // and r.z's terms
       const uint32_t f = uint32_t(e);
-      if (!own_[f].liquid) return;
+      if (!own_[f].liquid) {
+        terms_[indexAt_[f]] = V3f{0.0f, 0.0f, 0.0f};
+        return;
+      }
       v_[f] = stored(of(v_[f]) + tiny(times(a, of(p_[f]))));
-      const V r = of(r_[f]) - tiny(times(a, of(q_[f])));
+      const V r = of(r_[f]) - tiny(times(a, of(q_[f]))), z = tiny(own_[f].invDiag * r);
       r_[f] = stored(r);
-      z_[f] = stored(tiny(own_[f].invDiag * r));
+      z_[f] = stored(z);
+      terms_[indexAt_[f]] = stored(tiny(times(r, z)));
     });
-    const V next = sums([&](size_t f) { return times(of(r_[f]), of(z_[f])); });
+    const V next = left();
     const float nexts[3] = {next.x, next.y, next.z}, limits[3] = {limit.x, limit.y, limit.z};
     float kept[3];
     for (int c = 0; c < 3; ++c) {
@@ -666,12 +709,16 @@ void FlowStepper::multiplyDensity(const Multipliers<N>& x, const Lanes<N>& lane)
   correction<N>(x, lane);
   std::array<const std::vector<V3f>*, N> w;
   for (unsigned k = 0; k < N; ++k) w[k] = &w_[lane[k]];
-  parallel(flowSlots_.size(), [&](size_t f) {
+  parallel(flowSlots_.size(), [&](size_t f) {  // and x.q's terms, each lane's in its place
     const bool active = own_[f].active;
     const std::array<float, N> rate =
         active ? rateOf<N>(uint32_t(f), w) : std::array<float, N>{};
-    for (unsigned k = 0; k < N; ++k)
+    float term[2] = {0.0f, 0.0f};
+    for (unsigned k = 0; k < N; ++k) {
       aq_[lane[k]][f] = active ? tiny(ik_.epsilon * (*x[k])[f]) - rate[k] : 0.0f;
+      term[lane[k]] = tiny((*x[k])[f] * aq_[lane[k]][f]);
+    }
+    terms_[indexAt_[f]] = V3f{term[0], term[1], 0.0f};
   });
 }
 
@@ -738,10 +785,10 @@ void FlowStepper::solveConstraints(float hs, float limit) {
       ap_[k][f] = az_[k][f];
     }
   });
-  const auto rzOf = [&](unsigned k) {
-    return orderedSums<1>([&](size_t f) { return std::array<float, 1>{tiny(ar_[k][f] * az_[k][f])}; })[0];
-  };
-  float rz[2] = {rzOf(0), rzOf(1)};
+  const std::array<float, 2> first = orderedSums<2>([&](size_t f) {
+    return std::array<float, 2>{tiny(ar_[0][f] * az_[0][f]), tiny(ar_[1][f] * az_[1][f])};
+  });
+  float rz[2] = {first[0], first[1]};
   bool active[2] = {rz[0] > limit, rz[1] > limit};
   for (uint32_t it = 0; it < kPressureIterations && (active[0] || active[1]); ++it) {
     if (active[0] && active[1])
@@ -751,27 +798,28 @@ void FlowStepper::solveConstraints(float hs, float limit) {
     else
       multiplyDensity<1>({&ap_[1]}, {1});
     float alpha[2] = {0.0f, 0.0f};
+    const std::array<float, 2> pq = termSums<2>();
     for (unsigned k = 0; k < 2; ++k) {
       if (!active[k]) continue;
-      const float pq = orderedSums<1>([&](size_t f) {
-        return std::array<float, 1>{tiny(ap_[k][f] * aq_[k][f])};
-      })[0];
-      active[k] = pq > 0.0f;
-      if (active[k]) alpha[k] = rz[k] * reciprocal(pq);
+      active[k] = pq[k] > 0.0f;
+      if (active[k]) alpha[k] = rz[k] * reciprocal(pq[k]);
     }
-    parallel(n, [&](size_t f) {
-      if (!own_[f].active) return;
-      for (unsigned k = 0; k < 2; ++k) {
+    parallel(n, [&](size_t f) {  // and r.z's terms
+      float term[2] = {0.0f, 0.0f};
+      for (unsigned k = 0; k < 2 && own_[f].active; ++k) {
         if (!active[k]) continue;
         (*x[k])[f] = (*x[k])[f] + tiny(alpha[k] * ap_[k][f]);
         ar_[k][f] = ar_[k][f] - tiny(alpha[k] * aq_[k][f]);
         az_[k][f] = tiny((own_[f].invG * hs) * ar_[k][f]);
+        term[k] = tiny(ar_[k][f] * az_[k][f]);
       }
+      terms_[indexAt_[f]] = V3f{term[0], term[1], 0.0f};
     });
     float beta[2] = {0.0f, 0.0f};
+    const std::array<float, 2> nexts = termSums<2>();
     for (unsigned k = 0; k < 2; ++k) {
       if (!active[k]) continue;
-      const float next = rzOf(k);
+      const float next = nexts[k];
       beta[k] = next * reciprocal(rz[k]);
       rz[k] = next;
       active[k] = next > limit;

@@ -137,6 +137,7 @@ class FlowStepper {
   void forces(const State& state, float fraction);
   void viscousSystem(float hs);
   void solveViscosity();
+  void multiplyViscous();
   // hs m_f viscous_j (nu_f + nu_j): times a pair's weights, its share of f's row.
   float viscousCoefficient(uint32_t f, uint32_t j, float hs) const;
   void densitySystem(const State& state, float hs, float invHs);
@@ -168,13 +169,11 @@ class FlowStepper {
   template <class Visit>
   void neighbours(const State& state, size_t i, const Visit& visit) const;
   template <class Body>
-  void parallel(size_t n, const Body& body) const {
-    parallel(n, body, n);
-  }
-  template <class Body>
-  void parallel(size_t n, const Body& body, size_t work) const;
+  void parallel(size_t n, const Body& body) const;
   template <unsigned K, class Term>
   std::array<float, K> orderedSums(const Term& term) const;
+  template <unsigned K>
+  std::array<float, K> termSums() const;
 
   const Reference& reference_;
   Scene contact_;  // the scene with the flow's restitution on the ground and every collider
@@ -212,7 +211,7 @@ class FlowStepper {
   std::vector<uint32_t> flowSlots_;  // per flow index: its slot
   // The substep's values are kept per place (arrange()): its slot in at_, each flow index's
   // place in place_; keys_ the Z-order sort's.
-  std::vector<uint32_t> at_, place_;
+  std::vector<uint32_t> at_, place_, indexAt_;  // indexAt_: per place, its flow index
   std::vector<uint64_t> keys_;
   // Each place's pairs (ik_.cap each) in three arrays, by the passes that read them: the
   // solvers' products read only links, the constraint's also slopes, so that a CG iteration
@@ -269,6 +268,9 @@ class FlowStepper {
   // move it makes besides the velocity (a pseudo-velocity, m/s).
   std::vector<float> lambdaP_, rhsP_;
   std::vector<V3f> pseudo_;
+  // Per flow index: the terms of a CG's dot products, left by the pass that computes them
+  // (each place writes its own), summed in order on one thread (termSums).
+  std::vector<V3f> terms_;
 };
 
 }  // namespace lava::detail

@@ -147,11 +147,11 @@ void FlowStepper::neighbours(const State& state, size_t i, const Visit& visit) c
       }
 }
 
-// body(e) for e in [0, n), over the stepper's threads (one where the work, n by default, is
-// under 2048 elements): each e writes only its own results, so the threads change no bit.
+// body(e) for e in [0, n), over the stepper's threads: each e writes only its own results,
+// so the threads change no bit.
 template <class Body>
-void FlowStepper::parallel(size_t n, const Body& body, size_t work) const {
-  const size_t threads = work < 2048 ? 1 : workers_.size();
+void FlowStepper::parallel(size_t n, const Body& body) const {
+  const size_t threads = n < 2048 ? 1 : workers_.size();
   if (threads == 1) {
     for (size_t e = 0; e < n; ++e) body(e);
     return;
