@@ -148,16 +148,15 @@ void FlowStepper::neighbours(const State& state, size_t i, const Visit& visit) c
 }
 
 // body(e) for e in [0, n), over the stepper's threads: each e writes only its own results,
-// so the threads change no bit.
+// so the threads change no bit, whichever thread takes it (Workers::forEach).
 template <class Body>
 void FlowStepper::parallel(size_t n, const Body& body) const {
-  const size_t threads = n < 2048 ? 1 : workers_.size();
-  if (threads == 1) {
+  if (n < 2048 || workers_.size() == 1) {
     for (size_t e = 0; e < n; ++e) body(e);
     return;
   }
-  workers_.run([&](unsigned t) {
-    for (size_t e = n * t / threads; e < n * (t + 1) / threads; ++e) body(e);
+  workers_.forEach(n, [&](size_t begin, size_t end) {
+    for (size_t e = begin; e < end; ++e) body(e);
   });
 }
 

@@ -3,8 +3,10 @@
 #pragma once
 #include <atomic>
 #include <condition_variable>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -19,19 +21,34 @@ class Workers {
   Workers& operator=(const Workers&) = delete;
 
   unsigned size() const { return threads_; }
-  // Calls body(t) once for each t < size(), t = 0 on the caller, and returns when all have.
-  void run(const std::function<void(unsigned)>& body);
+  // Calls range(begin, end) over [0, n) in chunks, each chunk exactly once, and returns when
+  // all are done. Thread t takes the chunks of its own share of [0, n) in order, then any
+  // left of the others' shares: a helper that the system has not run yet (its core busy with
+  // other work) finds its share done by the others, and nobody waits for it to wake.
+  void forEach(size_t n, const std::function<void(size_t, size_t)>& range);
 
  private:
+  // A share's claim word: the job's number (32 bits), its next chunk and its end (16 each).
+  // The number makes a claim read in one job fail in the next.
+  struct alignas(64) Share {
+    std::atomic<uint64_t> claim{0};
+  };
   void loop(unsigned t);
+  void drain(unsigned t);  // claims and runs chunks, its own share's first, until none is left
+  bool claim(unsigned share, uint32_t& chunk);
 
   unsigned threads_;
   std::vector<std::thread> helpers_;
+  std::unique_ptr<Share[]> shares_;
+  // The job: written by the caller before its shares' claim words (release), read by a thread
+  // only after it has claimed one of its chunks (acquire), and kept until all are done.
+  const std::function<void(size_t, size_t)>* range_ = nullptr;
+  size_t n_ = 0, chunk_ = 0;
+  uint32_t job_ = 0;
+  alignas(64) std::atomic<uint32_t> done_{0};  // the job's chunks done
   std::mutex mutex_;
-  std::condition_variable wake_, done_;
-  const std::function<void(unsigned)>* job_ = nullptr;
-  std::atomic<uint64_t> generation_{0};  // one more for each run
-  std::atomic<unsigned> pending_{0};     // helpers still in this run's body
+  std::condition_variable wake_;
+  std::atomic<uint64_t> generation_{0};  // one more for each job: wakes the helpers
   std::atomic<bool> stop_{false};
 };
 
