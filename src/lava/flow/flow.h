@@ -4,6 +4,7 @@
 // around a particle in a fixed order.
 #pragma once
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -226,6 +227,8 @@ class FlowStepper {
     V3f e;           // (1 - r/radius)^2 times the unit direction from j to i
     float pressure;  // j's pressure weight
   };
+  // The products load e as 16 bytes (cpu_implicit.cpp, X3): they must stay in the pair's.
+  static_assert(sizeof(Slope) == 16 && offsetof(Slope, e) == 0, "e's 16 bytes are the Slope");
   struct Kernel {
     float t2;  // (1 - r^2/radius^2)^2
     // The viscosity's weights: t^2 plus its images' t^2 across the solids near i (each image
