@@ -60,7 +60,7 @@ V3f stored(const V& v) {
 // lane as V's (add, subtract, multiply, tiny): the products over the pairs take one
 // instruction for three. On x86-64 an SSE2 register, whose loads read 16 bytes (the fourth
 // lane is the next float in memory, never stored: the arrays so read end with a spare V3f);
-// elsewhere V itself.
+// elsewhere three floats.
 #if defined(__SSE2__)
 struct X3 {
   __m128 v;
@@ -90,12 +90,29 @@ inline V3f stored(X3 a) {
   return {lanes[0], lanes[1], lanes[2]};
 }
 #else
-using X3 = V;
+struct X3 {
+  float x, y, z;
+};
 inline X3 load(const V3f& a) {
   return {a.x, a.y, a.z};
 }
 inline X3 splat(float s) {
   return {s, s, s};
+}
+inline X3 operator+(X3 a, X3 b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+inline X3 operator-(X3 a, X3 b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+inline X3 operator*(X3 a, X3 b) {
+  return {a.x * b.x, a.y * b.y, a.z * b.z};
+}
+inline X3 tiny(X3 a) {
+  return {tiny(a.x), tiny(a.y), tiny(a.z)};
+}
+inline V3f stored(X3 a) {
+  return {a.x, a.y, a.z};
 }
 #endif
 
@@ -443,8 +460,8 @@ void FlowStepper::gatherNeighbours(const State& state, float hs) {
       solids.add(ik_, k_.invRadius2, d, u, n, friction);
     });
     Link* links = linksOf(f);
-    Slope* slopes = &slopes_[f * ik_.cap];
-    Kernel* kernels = &kernels_[f * ik_.cap];
+    Slope* slopes = slopesOf(f);
+    Kernel* kernels = kernelsOf(f);
     uint32_t count = 0;
     float theta = 0.0f, moving = 0.0f, conductive = 0.0f;
     V grad{0.0f, 0.0f, 0.0f};

@@ -240,7 +240,9 @@ class FlowStepper {
   std::vector<Kernel> kernels_;
   Link* linksOf(size_t f) { return &links_[f * ik_.cap]; }
   const Link* linksOf(size_t f) const { return &links_[f * ik_.cap]; }
+  Slope* slopesOf(size_t f) { return &slopes_[f * ik_.cap]; }
   const Slope* slopesOf(size_t f) const { return &slopes_[f * ik_.cap]; }
+  Kernel* kernelsOf(size_t f) { return &kernels_[f * ik_.cap]; }
   const Kernel* kernelsOf(size_t f) const { return &kernels_[f * ik_.cap]; }
   std::vector<uint32_t> count_;       // per place: its pairs
   std::vector<uint32_t> indexOf_;     // per slot: its place (kNotFlow for others)
