@@ -232,6 +232,74 @@ void FlowStepper::sort(const State& state) {
   }
 }
 
+// The entries neighbours() reads for a particle of cell c, in its order: the cells z, then
+// y, then x from -1 to +1, each bucket's first bucketCap_ entries that lie in that cell.
+void FlowStepper::candidates(const Cell& c, Candidates& out) const {
+  out.cell = c;
+  out.filled = true;
+  out.x.clear();
+  out.y.clear();
+  out.z.clear();
+  out.slot.clear();
+  for (int32_t dz = -1; dz <= 1; ++dz)
+    for (int32_t dy = -1; dy <= 1; ++dy)
+      for (int32_t dx = -1; dx <= 1; ++dx) {
+        const Cell n{c.x + dx, c.y + dy, c.z + dz};
+        const uint32_t b = bucketOf(n, buckets_);
+        const uint32_t begin = start_[b], count = start_[b + 1] - begin;
+        for (uint32_t r = 0; r < std::min(count, bucketCap_); ++r) {
+          const Entry& o = entries_[begin + r];
+          if (!(o.cell == n)) continue;
+          out.x.push_back(o.x);
+          out.y.push_back(o.y);
+          out.z.push_back(o.z);
+          out.slot.push_back(sorted_[begin + r]);
+        }
+        if (dx == 0 && dy == 0 && dz == 0) {
+          out.centreEnd = uint32_t(out.slot.size());
+          out.overflows = count > bucketCap_;
+          out.centreLast = out.overflows ? sorted_[begin + bucketCap_ - 1] : 0;
+        }
+      }
+}
+
+void FlowStepper::found(const State& state, size_t i, const Candidates& near, Found& out) const {
+  const Particle& p = state.particles[i];
+  const size_t most = near.slot.size() + 1;  // and i itself beyond its bucket's first
+  if (out.slot.size() < most) {
+    out.slot.resize(most);
+    for (std::vector<float>* v : {&out.dx, &out.dy, &out.dz, &out.q, &out.t, &out.r, &out.nx,
+                                  &out.ny, &out.nz})
+      v->resize(most);
+  }
+  uint32_t k = 0;
+  const auto offer = [&](uint32_t j, float x, float y, float z) {
+    const V d{p.px - x, p.py - y, p.pz - z};
+    const float q = dot(d, d);
+    const float t = 1.0f - q * k_.invRadius2;
+    out.slot[k] = j;
+    out.dx[k] = d.x;
+    out.dy[k] = d.y;
+    out.dz[k] = d.z;
+    out.q[k] = q;
+    out.t[k] = t;
+    k += unsigned(t > kPairCut);
+  };
+  for (uint32_t c = 0; c < near.centreEnd; ++c) offer(near.slot[c], near.x[c], near.y[c], near.z[c]);
+  if (near.overflows && i > near.centreLast) offer(uint32_t(i), p.px, p.py, p.pz);
+  for (uint32_t c = near.centreEnd; c < near.slot.size(); ++c)
+    offer(near.slot[c], near.x[c], near.y[c], near.z[c]);
+  out.count = k;
+  for (uint32_t m = 0; m < k; ++m) {  // distance(), without its branch
+    const float q = out.q[m], inv = Model::inverseRoot(q);
+    const bool coincident = !(q >= kCoincident);
+    out.nx[m] = coincident ? (i < out.slot[m] ? -1.0f : 1.0f) : inv * out.dx[m];
+    out.ny[m] = coincident ? 0.0f : inv * out.dy[m];
+    out.nz[m] = coincident ? 0.0f : inv * out.dz[m];
+    out.r[m] = coincident ? 0.0f : q * inv;
+  }
+}
+
 void FlowStepper::births(State& state, const std::vector<std::vector<Births>>& schedule,
                          size_t i) const {
   const Scene& s = reference_.scene();

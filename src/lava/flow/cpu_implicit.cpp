@@ -451,54 +451,72 @@ void FlowStepper::walls(float x, float y, float z, const Visit& visit) const {
 // conduction's stability, and whether it touches crust or a solid.
 void FlowStepper::gatherNeighbours(const State& state, float hs) {
   const float conduction = hs * k_.conduction;
-  parallel(sorted_.size(), [&](size_t e) {
-    const uint32_t f = uint32_t(e), i = at_[f];  // the alive particles come first
-    const Particle& p = state.particles[i];
-    Own& o = own_[f];
-    Solids solids;
-    this->walls(p.px, p.py, p.pz, [&](float d, float u, const V& n, float friction) {
-      solids.add(ik_, k_.invRadius2, d, u, n, friction);
-    });
-    Link* links = linksOf(f);
-    Slope* slopes = slopesOf(f);
-    Kernel* kernels = kernelsOf(f);
-    uint32_t count = 0;
-    float theta = 0.0f, moving = 0.0f, conductive = 0.0f;
-    V grad{0.0f, 0.0f, 0.0f};
-    bool touches = false;
-    neighbours(state, i, [&](uint32_t j, const V& d, float q, float t) {
-      if (j != i && count == ik_.cap) return;
-      const FlowWeights& w = weights_[emitterOfSlot_[j]];
-      V n;
-      const float tr = std::max(1.0f - distance(q, d, i, j, n) * k_.invRadius, 0.0f);
-      theta = theta + w.density * ((tr * tr) * tr);
-      if (j == i) return;
-      const uint32_t g = indexOf_[j];
-      const V unit = (tr * tr) * n;  // the constraint's gradient towards j is -pressure unit
-      const V push = w.pressure * unit;
-      grad = grad - push;
-      if (own_[g].liquid) moving = moving + dot(push, push);
-      const float t2 = t * t;
-      float diagonal, coupling;
-      mirrored(solids.near, solids.count, d, k_.invRadius2, t2, diagonal, coupling);
-      conductive = conductive + tiny(w.viscous * t2);
-      touches = touches || (state.crust[j] != 0 && q < k_.touch2);
-      links[count] = {g, 0.0f};
-      slopes[count] = {stored(unit), w.pressure};
-      kernels[count++] = {t2, diagonal, coupling};
-    });
-    theta = theta + (1.0f - solids.open);
-    grad = grad - solids.slope;  // the solids' share of the gradient is -slope
-    const bool close = anyCloser(solids.near, solids.count, ik_.near);
-    count_[f] = count;
-    o.theta = theta;
-    o.invG = reciprocal(hs * ((dot(grad, grad) + moving) + ik_.epsilon));
-    o.wallViscous = solids.own;
-    o.conductive = stable(conduction * conductive);
-    o.touches = touches || close;
-    o.near = close;
-    gradWall_[f] = stored(V{-solids.slope.x, -solids.slope.y, -solids.slope.z});
+  ranges(sorted_.size(), [&](size_t begin, size_t end) {
+    // Places run along the Z-order curve of the cells, so a cell's particles come one after
+    // another: the chunk keeps the candidates of the cell it searched last.
+    Candidates near;
+    Found pairs;
+    for (size_t e = begin; e < end; ++e) {
+      const uint32_t i = at_[e];  // the alive particles come first
+      if (!near.filled || !(near.cell == cells_[i])) candidates(cells_[i], near);
+      found(state, i, near, pairs);
+      gatherPairs(state, uint32_t(e), pairs, hs, conduction);
+    }
   });
+}
+
+// Place f's pairs (found()) into its links, slopes and kernels, and its own sums: the first
+// ik_.cap of them besides f itself.
+void FlowStepper::gatherPairs(const State& state, uint32_t f, const Found& pairs, float hs,
+                              float conduction) {
+  const uint32_t i = at_[f];
+  const Particle& p = state.particles[i];
+  Own& o = own_[f];
+  Solids solids;
+  this->walls(p.px, p.py, p.pz, [&](float d, float u, const V& n, float friction) {
+    solids.add(ik_, k_.invRadius2, d, u, n, friction);
+  });
+  Link* links = linksOf(f);
+  Slope* slopes = slopesOf(f);
+  Kernel* kernels = kernelsOf(f);
+  uint32_t count = 0;
+  float theta = 0.0f, moving = 0.0f, conductive = 0.0f;
+  V grad{0.0f, 0.0f, 0.0f};
+  bool touches = false;
+  for (uint32_t m = 0; m < pairs.count; ++m) {
+    const uint32_t j = pairs.slot[m];
+    if (j != i && count == ik_.cap) continue;
+    const FlowWeights& w = weights_[emitterOfSlot_[j]];
+    const V n{pairs.nx[m], pairs.ny[m], pairs.nz[m]};
+    const float tr = std::max(1.0f - pairs.r[m] * k_.invRadius, 0.0f);
+    theta = theta + w.density * ((tr * tr) * tr);
+    if (j == i) continue;
+    const uint32_t g = indexOf_[j];
+    const V unit = (tr * tr) * n;  // the constraint's gradient towards j is -pressure unit
+    const V push = w.pressure * unit;
+    grad = grad - push;
+    if (own_[g].liquid) moving = moving + dot(push, push);
+    const float t2 = pairs.t[m] * pairs.t[m];
+    float diagonal, coupling;
+    mirrored(solids.near, solids.count, V{pairs.dx[m], pairs.dy[m], pairs.dz[m]}, k_.invRadius2,
+             t2, diagonal, coupling);
+    conductive = conductive + tiny(w.viscous * t2);
+    touches = touches || (state.crust[j] != 0 && pairs.q[m] < k_.touch2);
+    links[count] = {g, 0.0f};
+    slopes[count] = {stored(unit), w.pressure};
+    kernels[count++] = {t2, diagonal, coupling};
+  }
+  theta = theta + (1.0f - solids.open);
+  grad = grad - solids.slope;  // the solids' share of the gradient is -slope
+  const bool close = anyCloser(solids.near, solids.count, ik_.near);
+  count_[f] = count;
+  o.theta = theta;
+  o.invG = reciprocal(hs * ((dot(grad, grad) + moving) + ik_.epsilon));
+  o.wallViscous = solids.own;
+  o.conductive = stable(conduction * conductive);
+  o.touches = touches || close;
+  o.near = close;
+  gradWall_[f] = stored(V{-solids.slope.x, -solids.slope.y, -solids.slope.z});
 }
 
 // The velocities after the viscosity: per liquid particle i,

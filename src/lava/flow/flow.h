@@ -135,6 +135,8 @@ class FlowStepper {
   void substep(State& state, float fraction, uint32_t substeps);
   void arrange();
   void gatherNeighbours(const State& state, float hs);
+  struct Found;
+  void gatherPairs(const State& state, uint32_t f, const Found& pairs, float hs, float conduction);
   void forces(const State& state, float fraction);
   void viscousSystem(float hs);
   void solveViscosity();
@@ -169,8 +171,35 @@ class FlowStepper {
   void walls(float x, float y, float z, const Visit& visit) const;
   template <class Visit>
   void neighbours(const State& state, size_t i, const Visit& visit) const;
+  // The entries a particle of one cell reads in a neighbour search, in neighbours()' order:
+  // the same for all the cell's particles, so that the implicit flow gathers them once per
+  // cell, not per particle (the hash lookups and scattered loads were most of the search).
+  struct Candidates {
+    Cell cell{0, 0, 0};
+    bool filled = false;  // whether cell's candidates are those below
+    std::vector<float> x, y, z;
+    std::vector<uint32_t> slot;
+    uint32_t centreEnd = 0;  // the centre bucket's last candidate, plus one
+    // Whether the centre bucket holds more than bucketCap_ entries, and its last one read:
+    // a particle beyond it visits itself after the centre bucket's candidates.
+    bool overflows = false;
+    uint32_t centreLast = 0;
+  };
+  void candidates(const Cell& c, Candidates& out) const;
+  // Particle i's pairs from its cell's candidates, in neighbours()' order: each one's slot,
+  // d = x_i - x_j, q = |d|^2 and t as there, and its distance r and unit direction n as
+  // distance() gives them, computed for all the pairs in one loop rather than in each
+  // pair's visit, where their chain of dependent operations kept the core waiting.
+  struct Found {
+    std::vector<uint32_t> slot;
+    std::vector<float> dx, dy, dz, q, t, r, nx, ny, nz;
+    uint32_t count = 0;
+  };
+  void found(const State& state, size_t i, const Candidates& near, Found& out) const;
   template <class Body>
   void parallel(size_t n, const Body& body) const;
+  template <class Range>
+  void ranges(size_t n, const Range& range) const;
   template <unsigned K, class Term>
   std::array<float, K> orderedSums(const Term& term) const;
   template <unsigned K>

@@ -147,15 +147,22 @@ void FlowStepper::neighbours(const State& state, size_t i, const Visit& visit) c
       }
 }
 
-// body(e) for e in [0, n), over the stepper's threads: each e writes only its own results,
-// so the threads change no bit, whichever thread takes it (Workers::forEach).
-template <class Body>
-void FlowStepper::parallel(size_t n, const Body& body) const {
+// range(begin, end) over [0, n) in chunks, over the stepper's threads (Workers::forEach):
+// each chunk exactly once, and the results each element's own, whichever thread takes it.
+template <class Range>
+void FlowStepper::ranges(size_t n, const Range& range) const {
   if (n < 2048 || workers_.size() == 1) {
-    for (size_t e = 0; e < n; ++e) body(e);
+    range(size_t(0), n);
     return;
   }
-  workers_.forEach(n, [&](size_t begin, size_t end) {
+  workers_.forEach(n, range);
+}
+
+// body(e) for e in [0, n), over the stepper's threads: each e writes only its own results,
+// so the threads change no bit, whichever thread takes it.
+template <class Body>
+void FlowStepper::parallel(size_t n, const Body& body) const {
+  ranges(n, [&](size_t begin, size_t end) {
     for (size_t e = begin; e < end; ++e) body(e);
   });
 }
