@@ -190,8 +190,8 @@ FlowStepper::FlowStepper(const Reference& reference, unsigned threads)
     for (std::vector<float>* v : {&lambda_, &rhs_, &lambdaP_, &rhsP_}) v->resize(flow);
     for (unsigned k = 0; k < 2; ++k) {
       for (std::vector<float>* v : {&ar_[k], &az_[k], &ap_[k], &aq_[k]}) v->resize(flow);
-      u_[k].resize(flow + 1);  // a spare: the products' 16-byte loads (cpu_implicit.cpp, X3)
-      w_[k].resize(flow);
+      // A spare each: the products' 16-byte loads (cpu_implicit.cpp, X3).
+      for (std::vector<V3f>* v : {&u_[k], &w_[k]}) v->resize(flow + 1);
     }
     pseudo_.resize(flow);
     count_.resize(flow);
@@ -199,8 +199,8 @@ FlowStepper::FlowStepper(const Reference& reference, unsigned threads)
     place_.resize(flow);
     indexAt_.resize(flow);
     terms_.resize(flow);
-    for (std::vector<V3f>* v : {&v_, &r_, &z_, &q_, &b_}) v->resize(flow);
-    for (std::vector<V3f>* v : {&gradWall_, &p_}) v->resize(flow + 1);  // as u_'s spare
+    for (std::vector<V3f>* v : {&r_, &z_, &q_, &b_}) v->resize(flow);
+    for (std::vector<V3f>* v : {&gradWall_, &p_, &v_}) v->resize(flow + 1);  // as u_'s spare
   }
   cells_.resize(n);
   if (!flowSlots_.empty()) return;  // the explicit flow's own per-slot results

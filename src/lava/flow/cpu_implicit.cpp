@@ -89,6 +89,10 @@ inline V3f stored(X3 a) {
   _mm_store_ps(lanes, a.v);
   return {lanes[0], lanes[1], lanes[2]};
 }
+inline float sum3(X3 a) {  // (x + y) + z: V's dot product of a lane-wise product
+  const __m128 xy = _mm_add_ss(a.v, _mm_shuffle_ps(a.v, a.v, 1));
+  return _mm_cvtss_f32(_mm_add_ss(xy, _mm_shuffle_ps(a.v, a.v, 2)));
+}
 #else
 struct X3 {
   float x, y, z;
@@ -113,6 +117,9 @@ inline X3 tiny(X3 a) {
 }
 inline V3f stored(X3 a) {
   return {a.x, a.y, a.z};
+}
+inline float sum3(X3 a) {
+  return (a.x + a.y) + a.z;
 }
 #endif
 
@@ -673,16 +680,18 @@ float FlowStepper::pressureOf(uint32_t f) const {
 template <unsigned N>
 std::array<float, N> FlowStepper::rateOf(uint32_t f,
                                          const std::array<const std::vector<V3f>*, N>& u) const {
-  V uf[N];
+  X3 uf[N];
   std::array<float, N> rate{};
-  for (unsigned k = 0; k < N; ++k) uf[k] = of((*u[k])[f]);
+  for (unsigned k = 0; k < N; ++k) uf[k] = load((*u[k])[f]);
   const Link* links = linksOf(f);
   const Slope* slopes = slopesOf(f);
-  for (uint32_t c = 0; c < count_[f]; ++c)
+  for (uint32_t c = 0; c < count_[f]; ++c) {
+    const X3 e = load(slopes[c].e);  // e's 16 bytes: e, then pressure
+    const float pressure = slopes[c].pressure;
     for (unsigned k = 0; k < N; ++k)
-      rate[k] = rate[k] -
-                tiny(slopes[c].pressure * dot(of(slopes[c].e), uf[k] - of((*u[k])[links[c].j])));
-  for (unsigned k = 0; k < N; ++k) rate[k] = rate[k] + tiny(dot(of(gradWall_[f]), uf[k]));
+      rate[k] = rate[k] - tiny(pressure * sum3(e * (uf[k] - load((*u[k])[links[c].j]))));
+  }
+  for (unsigned k = 0; k < N; ++k) rate[k] = rate[k] + tiny(sum3(load(gradWall_[f]) * uf[k]));
   return rate;
 }
 
