@@ -195,6 +195,7 @@ FlowStepper::FlowStepper(const Reference& reference, unsigned threads)
     }
     pseudo_.resize(flow);
     count_.resize(flow);
+    first_.resize(flow);
     at_.resize(flow);
     place_.resize(flow);
     indexAt_.resize(flow);

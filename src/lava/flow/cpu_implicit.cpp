@@ -463,13 +463,20 @@ void FlowStepper::gatherNeighbours(const State& state, float hs) {
     // another: the chunk keeps the candidates of the cell it searched last.
     Candidates near;
     Found pairs;
+    size_t next = begin * ik_.cap;
     for (size_t e = begin; e < end; ++e) {
       const uint32_t i = at_[e];  // the alive particles come first
       if (!near.filled || !(near.cell == cells_[i])) candidates(cells_[i], near);
       found(state, i, near, pairs);
+      first_[e] = next;
       gatherPairs(state, uint32_t(e), pairs, hs, conduction);
+      next += count_[e];
     }
   });
+  for (size_t f = sorted_.size(); f < flowSlots_.size(); ++f) {  // the unborn: no pairs
+    first_[f] = 0;
+    count_[f] = 0;
+  }
 }
 
 // Place f's pairs (found()) into its links, slopes and kernels, and its own sums: the first

@@ -243,7 +243,7 @@ class FlowStepper {
   // place in place_; keys_ the Z-order sort's.
   std::vector<uint32_t> at_, place_, indexAt_;  // indexAt_: per place, its flow index
   std::vector<uint64_t> keys_;
-  // Each place's pairs (ik_.cap each) in three arrays, by the passes that read them: the
+  // Each place's pairs (at most ik_.cap) in three arrays, by the passes that read them: the
   // solvers' products read only links, the constraint's also slopes, so that a CG iteration
   // streams 8 or 24 bytes a pair rather than all 36.
   struct Link {
@@ -267,13 +267,16 @@ class FlowStepper {
   std::vector<Link> links_;
   std::vector<Slope> slopes_;
   std::vector<Kernel> kernels_;
-  Link* linksOf(size_t f) { return &links_[f * ik_.cap]; }
-  const Link* linksOf(size_t f) const { return &links_[f * ik_.cap]; }
-  Slope* slopesOf(size_t f) { return &slopes_[f * ik_.cap]; }
-  const Slope* slopesOf(size_t f) const { return &slopes_[f * ik_.cap]; }
-  Kernel* kernelsOf(size_t f) { return &kernels_[f * ik_.cap]; }
-  const Kernel* kernelsOf(size_t f) const { return &kernels_[f * ik_.cap]; }
+  Link* linksOf(size_t f) { return &links_[first_[f]]; }
+  const Link* linksOf(size_t f) const { return &links_[first_[f]]; }
+  Slope* slopesOf(size_t f) { return &slopes_[first_[f]]; }
+  const Slope* slopesOf(size_t f) const { return &slopes_[first_[f]]; }
+  Kernel* kernelsOf(size_t f) { return &kernels_[first_[f]]; }
+  const Kernel* kernelsOf(size_t f) const { return &kernels_[first_[f]]; }
   std::vector<uint32_t> count_;       // per place: its pairs
+  // Per place: its first pair. A chunk of the neighbour pass, places [b, e), keeps their pairs
+  // one after another from b cap: the passes stream them without the gaps of cap a place.
+  std::vector<size_t> first_;
   std::vector<uint32_t> indexOf_;     // per slot: its place (kNotFlow for others)
   // Per place: what the substep's neighbour pass found, and the solvers' values.
   struct Own {
