@@ -113,7 +113,7 @@ step submission awk -F'[:,]' '/"particles"/ {
     steps = int(67108864 / n); if (steps < 1) steps = 1; if (steps > 4096) steps = 4096
     printf "flow %d particles: %d steps a submission, %.1f ms\n", n, steps, 1000 * steps * n / r
   }' "$out/bench-flow.json"
-step render-flow "$lava" render --frames 2 --scene "$here/scenes/eruption.toml" \
+step render-flow "$lava" render --frames 2 --scene "$here/scenes/eruption-explicit.toml" \
   --warmup "$flow_warmup" --out "$out/render-flow"
 step render-lines "$lava" render --frames 2 --renderer lines --out "$out/render-lines"
 step render-splat "$lava" render --frames 2 --renderer splat --particles "$demo_particles" \

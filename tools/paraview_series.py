@@ -4,7 +4,7 @@ last sample, the flow's particles as gaussian splats coloured by temperature (bl
 "Study a run in ParaView"). Run by hand, not in CI (ParaView is 440 MB installed):
 
     apt-get install --no-install-recommends paraview python3-paraview
-    build/lava simulate --scene scenes/eruption.toml --steps 8000 --backend cpu-simd \\
+    build/lava simulate --scene scenes/eruption-explicit.toml --steps 8000 --backend cpu-simd \\
         --series /tmp/eruption --every 200
     xvfb-run -a pvpython tools/paraview_series.py /tmp/eruption.pvd docs/paraview-eruption.png
 """

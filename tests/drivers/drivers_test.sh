@@ -2,8 +2,8 @@
 # The cross-driver checks of tests/drivers/CMakeLists.txt.
 #
 #   drivers_test.sh render LAVA SCENES OUT     the volcano, both renderers, into OUT/{lines,splat};
-#                       the eruption at 3 s (the CPU reference's checkpoint, the device drawing
-#                       its molten surface), both renderers at 640x360, into
+#                       the explicit flow's eruption at 3 s (the CPU reference's checkpoint,
+#                       the device drawing its molten surface), both renderers at 640x360, into
 #                       OUT/eruption-{lines,splat}
 #   drivers_test.sh compare DIFF BASE OTHER SPLAT LINES ERUPTION-SPLAT ERUPTION-LINES
 #                       OTHER's frames against BASE's (lavapipe 22.3's): at most SPLAT, LINES
@@ -18,7 +18,7 @@ case "$1" in
     lava=$2 scenes=$3 out=$4
     rm -rf "$out"
     mkdir -p "$out"
-    "$lava" simulate --scene "$scenes/eruption.toml" --backend cpu --steps 3000 \
+    "$lava" simulate --scene "$scenes/eruption-explicit.toml" --backend cpu --steps 3000 \
             --checkpoint "$out/eruption.npz" >/dev/null
     for renderer in lines splat; do
       "$lava" render --scene "$scenes/volcano.toml" --frames 1 --warmup 2 --renderer "$renderer" \

@@ -133,8 +133,9 @@ def test_a_checkpoint_of_another_format_is_refused_by_name(tmp_path):
 
 
 def test_a_flow_adds_the_temperature_column_and_its_checkpoint_arrays(tmp_path):
-    # scenes/eruption.toml: sparks (emitter 0, 12000 slots), then the flow (16384).
-    scene = os.path.join(SCENES, "eruption.toml")
+    # scenes/eruption-explicit.toml: sparks (emitter 0, 12000 slots), then the flow (16384),
+    # on the explicit flow, which the GPU steps with its own shader.
+    scene = os.path.join(SCENES, "eruption-explicit.toml")
     state = lava.simulate(300, backend="cpu", scene=scene)
     assert state.shape == (28384, 8)
     assert np.array_equal(state, program(tmp_path, "--backend", "cpu", "--scene", scene,
