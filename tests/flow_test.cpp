@@ -615,6 +615,27 @@ TEST(FlowImplicit, ARunningSimulationKeepsItsSolver) {
   EXPECT_THROW(sim.setState(wrong), InvalidArgument);  // no pressures
 }
 
+// A CpuSimulation keeps its flow stepper from one advance() to the next: forty advances of a
+// step give the bytes of one of forty, and a new scene (a viscosity a hundred times the
+// first) steps as a simulation made for it from the same state does.
+TEST(FlowImplicit, AStepperKeptAcrossAdvancesGivesTheBytesOfAFreshOne) {
+  const Scene s = implicitPool(300);
+  CpuSimulation steps(s, 2), once(s, 2);
+  for (int k = 0; k < 40; ++k) steps.advance(1);
+  once.advance(40);
+  ASSERT_EQ(stateHash(steps.state()), stateHash(once.state()));
+  Scene thicker = s;
+  thicker.flow->viscosity = thicker.flow->viscositySolidus = 100.0f * s.flow->viscosity;
+  CpuSimulation fresh(thicker, 2);
+  fresh.setState(steps.state());
+  steps.setScene(thicker);
+  steps.advance(20);
+  fresh.advance(20);
+  once.advance(20);
+  EXPECT_EQ(stateHash(steps.state()), stateHash(fresh.state()));
+  EXPECT_NE(stateHash(steps.state()), stateHash(once.state())) << "the viscosity matters";
+}
+
 // The implicit flow's bytes, pinned: a pool crusting on the ground beside a sphere, the
 // boxes standing on the ground filled by a pouring disc, and a point burst that one bucket
 // holds far past the entries a search reads. The other tests compare two runs of the same

@@ -67,7 +67,11 @@ class LAVA_API CpuSimulation final : public Simulation {
   explicit CpuSimulation(const Scene& scene, unsigned threads = 1,
                          CpuKernel kernel = CpuKernel::Reference,
                          const std::string& simdTarget = "");
+  ~CpuSimulation() override;
+  CpuSimulation(CpuSimulation&&) noexcept;
+  CpuSimulation& operator=(CpuSimulation&&) noexcept;
   void advance(uint64_t steps) override;
+  void setScene(const Scene& scene) override;
   State state() override { return state_; }
   void setState(const State& state) override;
   std::string name() const override;
@@ -83,6 +87,11 @@ class LAVA_API CpuSimulation final : public Simulation {
   unsigned threads_;
   CpuKernel kernel_;
   int64_t simdTarget_;  // Highway's target bit (0: the best)
+  // The scene's reference and the flow's stepper, kept from one advance() to the next (a host
+  // that steps a frame at a time would otherwise start the flow's threads and allocate its
+  // buffers every frame); a new scene makes them again.
+  struct Steppers;
+  std::unique_ptr<Steppers> steppers_;
 };
 
 struct GpuSimulationOptions {

@@ -40,6 +40,23 @@ CpuSimulation::CpuSimulation(const Scene& scene, unsigned threads, CpuKernel ker
   if (kernel_ == CpuKernel::Simd) detail::simdTarget(0);  // finds the best once, before threads
 }
 
+struct CpuSimulation::Steppers {
+  Steppers(const Scene& scene, unsigned threads) : reference(scene) {
+    if (scene.flows()) flow.emplace(reference, threads);
+  }
+  detail::Reference reference;
+  std::optional<detail::FlowStepper> flow;  // reads reference
+};
+
+CpuSimulation::~CpuSimulation() = default;
+CpuSimulation::CpuSimulation(CpuSimulation&&) noexcept = default;
+CpuSimulation& CpuSimulation::operator=(CpuSimulation&&) noexcept = default;
+
+void CpuSimulation::setScene(const Scene& scene) {
+  Simulation::setScene(scene);
+  steppers_.reset();
+}
+
 std::string CpuSimulation::simdTarget() const {
   return kernel_ == CpuKernel::Simd ? detail::simdTarget(simdTarget_) : "";
 }
@@ -75,9 +92,9 @@ void planBirths(const Scene& scene, float h, uint64_t batch, State& state,
 
 void CpuSimulation::advance(uint64_t steps) {
   const float h = scene_.h();
-  const detail::Reference reference(scene_);
-  std::optional<detail::FlowStepper> flow;
-  if (scene_.flows()) flow.emplace(reference, threads_);
+  if (!steppers_) steppers_ = std::make_unique<Steppers>(scene_, threads_);
+  const detail::Reference& reference = steppers_->reference;
+  std::optional<detail::FlowStepper>& flow = steppers_->flow;
   std::vector<std::vector<detail::Births>> schedule(scene_.emitters.size());
   while (steps > 0) {
     const uint64_t batch = std::min(steps, kScheduleBatch);
