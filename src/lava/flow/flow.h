@@ -173,7 +173,7 @@ class FlowStepper {
   void neighbours(const State& state, size_t i, const Visit& visit) const;
   // The entries a particle of one cell reads in a neighbour search, in neighbours()' order:
   // the same for all the cell's particles, so that the implicit flow gathers them once per
-  // cell, not per particle (the hash lookups and scattered loads were most of the search).
+  // cell (27 hash lookups and scattered loads), not once per particle.
   struct Candidates {
     Cell cell{0, 0, 0};
     bool filled = false;  // whether cell's candidates are those below
