@@ -233,8 +233,8 @@ void FlowStepper::sort(const State& state) {
   }
 }
 
-// The entries neighbours() reads for a particle of cell c, in its order: the cells z, then
-// y, then x from -1 to +1, each bucket's first bucketCap_ entries that lie in that cell.
+// The entries neighbours() reads for a particle of cell c, in its order: the cells around
+// c (aroundCell), each bucket's first bucketCap_ entries that lie in that cell.
 void FlowStepper::candidates(const Cell& c, Candidates& out) const {
   out.cell = c;
   out.filled = true;
@@ -242,26 +242,20 @@ void FlowStepper::candidates(const Cell& c, Candidates& out) const {
   out.y.clear();
   out.z.clear();
   out.slot.clear();
-  for (int32_t dz = -1; dz <= 1; ++dz)
-    for (int32_t dy = -1; dy <= 1; ++dy)
-      for (int32_t dx = -1; dx <= 1; ++dx) {
-        const Cell n{c.x + dx, c.y + dy, c.z + dz};
-        const uint32_t b = bucketOf(n, buckets_);
-        const uint32_t begin = start_[b], count = start_[b + 1] - begin;
-        for (uint32_t r = 0; r < std::min(count, bucketCap_); ++r) {
-          const Entry& o = entries_[begin + r];
-          if (!(o.cell == n)) continue;
-          out.x.push_back(o.x);
-          out.y.push_back(o.y);
-          out.z.push_back(o.z);
-          out.slot.push_back(sorted_[begin + r]);
-        }
-        if (dx == 0 && dy == 0 && dz == 0) {
-          out.centreEnd = uint32_t(out.slot.size());
-          out.overflows = count > bucketCap_;
-          out.centreLast = out.overflows ? sorted_[begin + bucketCap_ - 1] : 0;
-        }
-      }
+  aroundCell(c, [&](const Cell& n, uint32_t begin, uint32_t count, bool centre) {
+    for (uint32_t r = 0; r < std::min(count, bucketCap_); ++r) {
+      const Entry& o = entries_[begin + r];
+      if (!(o.cell == n)) continue;
+      out.x.push_back(o.x);
+      out.y.push_back(o.y);
+      out.z.push_back(o.z);
+      out.slot.push_back(sorted_[begin + r]);
+    }
+    if (!centre) return;
+    out.centreEnd = uint32_t(out.slot.size());
+    out.overflows = count > bucketCap_;
+    out.centreLast = out.overflows ? sorted_[begin + bucketCap_ - 1] : 0;
+  });
 }
 
 void FlowStepper::found(const State& state, size_t i, const Candidates& near, Found& out) const {

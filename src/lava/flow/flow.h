@@ -169,6 +169,8 @@ class FlowStepper {
   void move(State& state, float hs, float fraction, float invHs);
   template <class Visit>
   void walls(float x, float y, float z, const Visit& visit) const;
+  template <class Bucket>
+  void aroundCell(const Cell& c, const Bucket& bucket) const;
   template <class Visit>
   void neighbours(const State& state, size_t i, const Visit& visit) const;
   // The entries a particle of one cell reads in a neighbour search, in neighbours()' order:

@@ -116,35 +116,42 @@ inline void finish(const Emitter& emitter, float ambient, float h, float cool, f
 
 namespace lava::detail {
 
-// Calls visit(j, d, q, t) for every flow particle j within the radius of particle i (i
-// itself included): the cells z, then y, then x from -1 to +1, each bucket's first
-// bucketCap_ slots in order, and i after them when its own bucket holds it beyond them.
-template <class Visit>
-void FlowStepper::neighbours(const State& state, size_t i, const Visit& visit) const {
-  using flowcpu::V;
-  const Particle& p = state.particles[i];
-  const Cell c = cells_[i];
+// Calls bucket(n, begin, count, centre) for the 27 cells n around c, z then y then x from
+// -1 to +1: [begin, begin + count) are n's bucket's entries (sorted_, entries_), centre
+// whether n is c.
+template <class Bucket>
+void FlowStepper::aroundCell(const Cell& c, const Bucket& bucket) const {
   for (int32_t dz = -1; dz <= 1; ++dz)
     for (int32_t dy = -1; dy <= 1; ++dy)
       for (int32_t dx = -1; dx <= 1; ++dx) {
         const Cell n{c.x + dx, c.y + dy, c.z + dz};
         const uint32_t b = bucketOf(n, buckets_);
-        const uint32_t begin = start_[b], count = start_[b + 1] - begin;
-        uint32_t reads = std::min(count, bucketCap_);
-        if (count > bucketCap_ && dx == 0 && dy == 0 && dz == 0 &&
-            i > sorted_[begin + bucketCap_ - 1])
-          ++reads;
-        for (uint32_t r = 0; r < reads; ++r) {
-          const bool own = r == bucketCap_;  // i itself, beyond the bucket's first bucketCap_
-          const Entry o = own ? Entry{p.px, p.py, p.pz, c} : entries_[begin + r];
-          if (!(o.cell == n)) continue;
-          const uint32_t j = own ? uint32_t(i) : sorted_[begin + r];
-          const V d{p.px - o.x, p.py - o.y, p.pz - o.z};
-          const float q = dot(d, d);
-          const float t = 1.0f - q * k_.invRadius2;
-          if (t > kPairCut) visit(j, d, q, t);
-        }
+        bucket(n, start_[b], start_[b + 1] - start_[b], dx == 0 && dy == 0 && dz == 0);
       }
+}
+
+// Calls visit(j, d, q, t) for every flow particle j within the radius of particle i (i
+// itself included): the cells around its own (aroundCell), each bucket's first bucketCap_
+// slots in order, and i after them when its own bucket holds it beyond them.
+template <class Visit>
+void FlowStepper::neighbours(const State& state, size_t i, const Visit& visit) const {
+  using flowcpu::V;
+  const Particle& p = state.particles[i];
+  const Cell c = cells_[i];
+  aroundCell(c, [&](const Cell& n, uint32_t begin, uint32_t count, bool centre) {
+    uint32_t reads = std::min(count, bucketCap_);
+    if (count > bucketCap_ && centre && i > sorted_[begin + bucketCap_ - 1]) ++reads;
+    for (uint32_t r = 0; r < reads; ++r) {
+      const bool own = r == bucketCap_;  // i itself, beyond the bucket's first bucketCap_
+      const Entry o = own ? Entry{p.px, p.py, p.pz, c} : entries_[begin + r];
+      if (!(o.cell == n)) continue;
+      const uint32_t j = own ? uint32_t(i) : sorted_[begin + r];
+      const V d{p.px - o.x, p.py - o.y, p.pz - o.z};
+      const float q = dot(d, d);
+      const float t = 1.0f - q * k_.invRadius2;
+      if (t > kPairCut) visit(j, d, q, t);
+    }
+  });
 }
 
 // range(begin, end) over [0, n) in chunks, over the stepper's threads (Workers::forEach):
